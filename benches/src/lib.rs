@@ -1,0 +1,1 @@
+//! Criterion benchmarks for geofeas live in `benches/`.

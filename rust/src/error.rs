@@ -1,0 +1,59 @@
+//! Errors of the geofeas core.
+//!
+//! Every fallible public function returns [`Result<T>`]. Each variant carries the offending row
+//! and field so that a caller (the Python bindings, a native service) can tell the user exactly
+//! which input was wrong.
+
+/// Result alias used throughout the crate.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// What went wrong, with the row (0-based) and field that caused it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// A value that must be finite was NaN or infinite.
+    #[error("{what} row {row}: field '{field}' is not finite ({value})")]
+    NonFinite {
+        what: &'static str,
+        row: usize,
+        field: &'static str,
+        value: f64,
+    },
+    /// A semi-axis or variance that must be strictly positive was not.
+    #[error("{what} row {row}: field '{field}' must be > 0, got {value}")]
+    NonPositive {
+        what: &'static str,
+        row: usize,
+        field: &'static str,
+        value: f64,
+    },
+    /// A covariance matrix is not symmetric positive definite.
+    #[error("covariance row {row}: not symmetric positive definite ({reason})")]
+    NotPositiveDefinite { row: usize, reason: String },
+    /// Two inputs that must have the same length do not.
+    #[error("length mismatch: {left} rows in a, {right} rows in b")]
+    LengthMismatch { left: usize, right: usize },
+    /// An array has the wrong shape.
+    #[error("{what}: expected shape {expected}, got {got}")]
+    Shape {
+        what: &'static str,
+        expected: String,
+        got: String,
+    },
+    /// An option is out of its valid range.
+    #[error("invalid option '{name}': {reason}")]
+    InvalidOption { name: &'static str, reason: String },
+    /// The requested output would not fit in memory.
+    #[error("output of {rows} x {cols} values ({bytes} bytes) exceeds the limit of {limit} bytes")]
+    TooLarge {
+        rows: usize,
+        cols: usize,
+        bytes: u128,
+        limit: u128,
+    },
+    /// A long computation was interrupted by the caller (for example Ctrl-C in Python).
+    #[error("interrupted")]
+    Interrupted,
+    /// Anything about input data that does not fit the variants above.
+    #[error("{0}")]
+    Invalid(String),
+}

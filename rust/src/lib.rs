@@ -1,0 +1,34 @@
+//! # geofeas
+//!
+//! Geofeasibility scores that tell a multi-sensor fusion centre which tracks are the same object,
+//! from the 2-sigma areas of uncertainty (AOU) of their reports (seed 000: Coates et al.,
+//! "Recognized Maritime Picture: Geofeasibility Scores").
+//!
+//! - [`Ellipse`] / [`Gaussian`]: an AOU and its Gaussian (eqs. 56-59).
+//! - [`score::Glr`]: the generalized likelihood ratio (eq. 71), optionally thresholded.
+//! - [`score::Polygon`]: the normalised overlap area (eqs. 49-50) on polygonised ellipses.
+//! - [`score::MonteCarlo`]: the importance-sampling estimator of eq. 55.
+//! - [`score::score_pairs`] / [`score::score_cdist`]: the parallel batch drivers shared by all.
+//!
+//! The crate has no Python types; the PyO3 bindings live behind the `python` feature.
+//!
+//! ```
+//! use geofeas::{score::{PairScore, Polygon}, Ellipse};
+//! let a = Ellipse::circle(0.0, 0.0, 1.0);
+//! let b = Ellipse::circle(0.5, 0.0, 1.0);
+//! let g = Polygon::default().score_one(&a, &b);
+//! assert!(g > 0.6 && g < 0.7);
+//! ```
+
+pub mod ellipse;
+pub mod error;
+pub mod relation;
+pub mod score;
+
+#[cfg(feature = "python")]
+mod python;
+
+pub use ellipse::{Ellipse, Gaussian};
+pub use error::{Error, Result};
+pub use relation::{relation, Relation};
+pub use score::glr::glr;

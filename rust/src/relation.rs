@@ -1,0 +1,202 @@
+//! How two ellipses lie relative to each other: disjoint, one inside the other, or crossing.
+//!
+//! The predicate behind the exact 0 and 1 of constraints 47-48 (seed 000). The boundary of `a`,
+//! `p_a(t) = c_a + rx_a cos t e1 + ry_a sin t e2`, is written in the normalised frame of `b`
+//! (where `b` is the unit disc) as `z(t) = w + P cos t + Q sin t`, so that
+//! `f(t) = |z(t)|^2 = K0 + K1 cos 2t + K2 sin 2t + K3 cos t + K4 sin t`, a trigonometric
+//! polynomial of degree 2. `a` lies inside `b` exactly when `max f <= 1`; the boundary of `a`
+//! misses `b` exactly when `min f > 1`. The extremes are found by bracketing the sign changes of
+//! `f'` on a grid fine enough for a degree-2 polynomial and polishing them by safeguarded
+//! Newton steps; all work is done relative to the centre of `b`, so coordinates far from the
+//! origin lose no digits.
+
+use crate::ellipse::Ellipse;
+
+/// The relative position of two closed ellipses `a` and `b`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Relation {
+    /// The closed ellipses do not meet.
+    Disjoint,
+    /// `a` lies inside `b` (this includes `a == b`).
+    AInsideB,
+    /// `b` lies inside `a`, and `a` not inside `b`.
+    BInsideA,
+    /// The boundaries cross or touch.
+    Crossing,
+}
+
+/// `f(t) = K0 + K1 cos 2t + K2 sin 2t + K3 cos t + K4 sin t`: the squared normalised radius of
+/// the boundary of one ellipse measured in the frame of another.
+#[derive(Debug, Clone, Copy)]
+pub struct BoundaryFn {
+    pub k: [f64; 5],
+}
+
+impl BoundaryFn {
+    /// The boundary of `a` in the normalised frame of `b`.
+    pub fn new(a: &Ellipse, b: &Ellipse) -> Self {
+        let (sb, cb) = b.phi.sin_cos();
+        let (sa, ca) = a.phi.sin_cos();
+        // Map a vector (dx, dy) to b's normalised frame.
+        let to_b = |dx: f64, dy: f64| [(dx * sb + dy * cb) / b.rx, (dx * cb - dy * sb) / b.ry];
+        let w = to_b(a.x0 - b.x0, a.y0 - b.y0);
+        let p = to_b(a.rx * sa, a.rx * ca);
+        let q = to_b(a.ry * ca, -a.ry * sa);
+        let pp = p[0] * p[0] + p[1] * p[1];
+        let qq = q[0] * q[0] + q[1] * q[1];
+        let pq = p[0] * q[0] + p[1] * q[1];
+        let ww = w[0] * w[0] + w[1] * w[1];
+        let wp = w[0] * p[0] + w[1] * p[1];
+        let wq = w[0] * q[0] + w[1] * q[1];
+        Self {
+            k: [
+                ww + 0.5 * (pp + qq),
+                0.5 * (pp - qq),
+                pq,
+                2.0 * wp,
+                2.0 * wq,
+            ],
+        }
+    }
+
+    /// `f(t)`.
+    #[inline]
+    pub fn value(&self, t: f64) -> f64 {
+        let (s, c) = t.sin_cos();
+        let (s2, c2) = (2.0 * s * c, c * c - s * s);
+        let k = &self.k;
+        k[0] + k[1] * c2 + k[2] * s2 + k[3] * c + k[4] * s
+    }
+
+    /// `f'(t)` and `f''(t)`.
+    #[inline]
+    pub fn derivs(&self, t: f64) -> (f64, f64) {
+        let (s, c) = t.sin_cos();
+        let (s2, c2) = (2.0 * s * c, c * c - s * s);
+        let k = &self.k;
+        (
+            -2.0 * k[1] * s2 + 2.0 * k[2] * c2 - k[3] * s + k[4] * c,
+            -4.0 * k[1] * c2 - 4.0 * k[2] * s2 - k[3] * c - k[4] * s,
+        )
+    }
+
+    /// `(min f, max f)` over a full turn.
+    pub fn extremes(&self) -> (f64, f64) {
+        const N: usize = 48;
+        let step = std::f64::consts::TAU / N as f64;
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        let mut d_prev = self.derivs(0.0).0;
+        for i in 0..N {
+            let t0 = i as f64 * step;
+            let t1 = t0 + step;
+            let v0 = self.value(t0);
+            lo = lo.min(v0);
+            hi = hi.max(v0);
+            let d1 = self.derivs(t1).0;
+            if (d_prev <= 0.0) != (d1 <= 0.0) {
+                let v = self.value(self.critical_point(t0, t1, d_prev));
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+            d_prev = d1;
+        }
+        (lo, hi)
+    }
+
+    /// A root of `f'` inside `[t0, t1]`, where `f'` changes sign (`d0 = f'(t0)`).
+    fn critical_point(&self, mut t0: f64, mut t1: f64, d0: f64) -> f64 {
+        let neg0 = d0 <= 0.0;
+        let mut t = 0.5 * (t0 + t1);
+        for _ in 0..60 {
+            let (d, dd) = self.derivs(t);
+            if d == 0.0 {
+                return t;
+            }
+            if (d <= 0.0) == neg0 {
+                t0 = t;
+            } else {
+                t1 = t;
+            }
+            let newton = t - d / dd;
+            t = if dd != 0.0 && newton > t0 && newton < t1 {
+                newton
+            } else {
+                0.5 * (t0 + t1)
+            };
+            if (t1 - t0).abs() < 1e-15 {
+                break;
+            }
+        }
+        t
+    }
+}
+
+/// The relation of the closed ellipses `a` and `b`. Both must be valid (see
+/// [`Ellipse::validated`]).
+///
+/// ```
+/// use geofeas::{relation, Ellipse, Relation};
+/// let big = Ellipse::circle(0.0, 0.0, 10.0);
+/// assert_eq!(relation(&Ellipse::circle(1.0, 1.0, 1.0), &big), Relation::AInsideB);
+/// assert_eq!(relation(&big, &Ellipse::circle(30.0, 0.0, 1.0)), Relation::Disjoint);
+/// ```
+pub fn relation(a: &Ellipse, b: &Ellipse) -> Relation {
+    let (amin, amax) = BoundaryFn::new(a, b).extremes();
+    if amax <= 1.0 {
+        return Relation::AInsideB;
+    }
+    let (_, bmax) = BoundaryFn::new(b, a).extremes();
+    if bmax <= 1.0 {
+        return Relation::BInsideA;
+    }
+    if amin > 1.0 {
+        // a's boundary misses b and b is not inside a: nothing of b is inside a.
+        Relation::Disjoint
+    } else {
+        Relation::Crossing
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn circles() {
+        let a = Ellipse::circle(0.0, 0.0, 1.0);
+        assert_eq!(relation(&a, &a), Relation::AInsideB);
+        assert_eq!(
+            relation(&a, &Ellipse::circle(2.5, 0.0, 1.0)),
+            Relation::Disjoint
+        );
+        assert_eq!(
+            relation(&a, &Ellipse::circle(1.5, 0.0, 1.0)),
+            Relation::Crossing
+        );
+        assert_eq!(
+            relation(&Ellipse::circle(0.0, 0.0, 3.0), &a),
+            Relation::BInsideA
+        );
+    }
+
+    #[test]
+    fn boundary_fn_matches_direct_evaluation() {
+        let a = Ellipse::new(1.0, -2.0, 3.0, 0.5, 0.7);
+        let b = Ellipse::new(0.3, 0.2, 2.0, 1.0, -1.1);
+        let f = BoundaryFn::new(&a, &b);
+        for i in 0..20 {
+            let t = i as f64 * 0.31;
+            let p = a.point_at(t);
+            let [u, v] = b.normalise(p[0], p[1]);
+            assert!((f.value(t) - (u * u + v * v)).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn crossed_needles_are_crossing_not_nested() {
+        let a = Ellipse::new(0.0, 0.0, 1000.0, 1.0, 0.0);
+        let b = Ellipse::new(0.0, 0.0, 1000.0, 1.0, std::f64::consts::FRAC_PI_2);
+        assert_eq!(relation(&a, &b), Relation::Crossing);
+    }
+}
