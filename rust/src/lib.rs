@@ -24,6 +24,7 @@ pub mod ellipse;
 pub mod error;
 pub mod relation;
 pub mod score;
+pub mod tracking;
 
 #[cfg(feature = "python")]
 mod python;

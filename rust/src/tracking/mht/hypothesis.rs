@@ -1,0 +1,459 @@
+//! Reid's measurement-oriented multiple-hypothesis tracker (seed 004, section 3; Reid 1979).
+//!
+//! For every detection each parent hypothesis spawns one child that calls the detection a false
+//! alarm (factor `beta_FA`, the false-alarm density per unit range x range rate), one that starts
+//! a new range-Doppler track (`beta_NT`, the new-target density) and one per track it can update
+//! (`P_D` times the association likelihood of [`Track::associate`]). A track can take at most one
+//! detection per scan. At the end of a scan every track of a hypothesis that the sensor could have
+//! detected but did not update is charged `1 - P_D`. Hypothesis weights are thus Reid's
+//! `P_D^N_DT (1 - P_D)^N_miss beta_FA^N_FA beta_NT^N_NT prod N(e; 0, S)`, normalised to sum to one
+//! after every detection, and only the `max_hypotheses` most likely survive. Tracks that have not
+//! been updated for `max_coast` seconds are closed.
+//!
+//! With `max_hypotheses = 1` and `scan_cap = Some(k)` the tracker keeps up to `k` hypotheses
+//! while a scan is processed and the single best at its end: a global-nearest-neighbour
+//! (single-hypothesis) tracker with the same likelihoods, the baseline of the paper.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use super::scenario::{Scenario, G};
+use super::sensor::{Detection, Noise, Sensor};
+use super::track::Track;
+use crate::error::{Error, Result};
+
+/// Options of the tracker.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MhtConfig {
+    /// Hypotheses kept after each detection (paper: 50).
+    pub max_hypotheses: usize,
+    /// If set, hypotheses kept while a scan is processed; pruning to `max_hypotheses` then
+    /// happens only at the end of the scan.
+    pub scan_cap: Option<usize>,
+    /// Detection probability assumed by the tracker, in (0, 1).
+    pub pd: f64,
+    /// False-alarm density, per (metre x metre per second) of one scan.
+    pub false_alarm_density: f64,
+    /// New-target density, per (metre x metre per second) of one scan.
+    pub new_target_density: f64,
+    /// Process noise: white acceleration standard deviation, m/s^2 (paper: 4 g).
+    pub accel_sigma: f64,
+    /// Measurement noise.
+    pub noise: Noise,
+    /// Chi-square gate on the squared Mahalanobis distance of Kalman innovations (2 dof).
+    pub gate: f64,
+    /// A track not updated for this many seconds is closed.
+    pub max_coast: f64,
+    /// Largest target speed, m/s.
+    pub max_speed: f64,
+    /// Smallest |sin| of the angle between the lines of sight of a trilateration.
+    pub min_sin_angle: f64,
+    /// Whether a detection may be explained as a false alarm. A single-hypothesis tracker turns
+    /// this off: it can never revisit the decision, so every detection it does not assign to a
+    /// track starts a tentative track, which is closed if nothing else joins it.
+    pub false_alarm_hypotheses: bool,
+}
+
+impl Default for MhtConfig {
+    fn default() -> Self {
+        let volume = 100.0 * 30.0;
+        Self {
+            max_hypotheses: 50,
+            scan_cap: None,
+            pd: 0.9,
+            false_alarm_density: 1.0 / volume,
+            new_target_density: 0.02 / volume,
+            accel_sigma: 4.0 * G,
+            noise: Noise::default(),
+            gate: 16.0,
+            max_coast: 2.0,
+            max_speed: 15.0,
+            min_sin_angle: 0.05,
+            false_alarm_hypotheses: true,
+        }
+    }
+}
+
+impl MhtConfig {
+    /// The configuration for a scenario: its noise, `beta_FA = max(n_FA, 0.1) / V` and
+    /// `beta_NT = 0.02 / V` with `V` the range / range-rate window of the first sensor.
+    pub fn for_scenario(scenario: &Scenario) -> Self {
+        let volume = scenario
+            .sensors
+            .first()
+            .map_or(3000.0, Sensor::window_volume);
+        Self {
+            false_alarm_density: (scenario.false_alarms as f64).max(0.1) / volume,
+            new_target_density: 0.02 / volume,
+            noise: scenario.noise,
+            max_speed: scenario.sensors.first().map_or(15.0, |s| s.max_range_rate),
+            ..Self::default()
+        }
+    }
+
+    /// The single-hypothesis (global nearest neighbour) variant of this configuration.
+    pub fn single_hypothesis(self) -> Self {
+        Self {
+            max_hypotheses: 1,
+            scan_cap: Some(64),
+            false_alarm_hypotheses: false,
+            ..self
+        }
+    }
+
+    /// Checks every option.
+    pub fn validated(self) -> Result<Self> {
+        let bad = |name: &'static str, reason: String| Err(Error::InvalidOption { name, reason });
+        if self.max_hypotheses == 0 {
+            return bad("max_hypotheses", "must be >= 1".into());
+        }
+        if self.scan_cap == Some(0) {
+            return bad("scan_cap", "must be >= 1".into());
+        }
+        if !(self.pd > 0.0 && self.pd < 1.0) {
+            return bad("pd", format!("must be in (0, 1), got {}", self.pd));
+        }
+        for (name, v) in [
+            ("false_alarm_density", self.false_alarm_density),
+            ("new_target_density", self.new_target_density),
+            ("accel_sigma", self.accel_sigma),
+            ("gate", self.gate),
+            ("max_coast", self.max_coast),
+            ("max_speed", self.max_speed),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return bad(name, format!("must be finite and > 0, got {v}"));
+            }
+        }
+        if !(self.min_sin_angle.is_finite() && (0.0..1.0).contains(&self.min_sin_angle)) {
+            return bad(
+                "min_sin_angle",
+                format!("must be in [0, 1), got {}", self.min_sin_angle),
+            );
+        }
+        self.noise.validated()?;
+        Ok(self)
+    }
+}
+
+/// A closed track, kept for the record in a persistent list.
+#[derive(Debug)]
+pub struct Closed {
+    /// The track as it was last updated.
+    pub track: Arc<Track>,
+    /// The previously closed track.
+    pub prev: Option<Arc<Closed>>,
+}
+
+/// One interpretation of all detections so far.
+#[derive(Debug, Clone, Default)]
+pub struct Hypothesis {
+    /// Natural log of the probability (normalised over the kept hypotheses).
+    pub log_weight: f64,
+    /// Open tracks.
+    pub tracks: Vec<Arc<Track>>,
+    /// Closed tracks, most recent first.
+    pub closed: Option<Arc<Closed>>,
+}
+
+impl Hypothesis {
+    /// Probability of the hypothesis.
+    pub fn probability(&self) -> f64 {
+        self.log_weight.exp()
+    }
+
+    /// Open and closed tracks.
+    pub fn all_tracks(&self) -> Vec<Arc<Track>> {
+        let mut out = self.tracks.clone();
+        let mut node = self.closed.as_ref();
+        while let Some(c) = node {
+            out.push(c.track.clone());
+            node = c.prev.as_ref();
+        }
+        out
+    }
+}
+
+enum Action {
+    FalseAlarm,
+    NewTrack,
+    Update(usize, Arc<Track>),
+}
+
+struct Child {
+    log_weight: f64,
+    parent: usize,
+    action: Action,
+}
+
+/// The multiple-hypothesis tracker.
+#[derive(Debug, Clone)]
+pub struct Mht {
+    config: MhtConfig,
+    sensors: Vec<Sensor>,
+    hypotheses: Vec<Hypothesis>,
+    time: f64,
+    scans: usize,
+}
+
+impl Mht {
+    /// A tracker for `sensors` (at most 64) with `config`.
+    pub fn new(sensors: Vec<Sensor>, config: MhtConfig) -> Result<Self> {
+        let config = config.validated()?;
+        if sensors.is_empty() || sensors.len() > 64 {
+            return Err(Error::InvalidOption {
+                name: "sensors",
+                reason: format!(
+                    "between 1 and 64 sensors are supported, got {}",
+                    sensors.len()
+                ),
+            });
+        }
+        for (i, s) in sensors.iter().enumerate() {
+            s.validated(i)?;
+        }
+        Ok(Self {
+            config,
+            sensors,
+            hypotheses: vec![Hypothesis::default()],
+            time: f64::NEG_INFINITY,
+            scans: 0,
+        })
+    }
+
+    /// The options.
+    pub fn config(&self) -> &MhtConfig {
+        &self.config
+    }
+
+    /// The sensors.
+    pub fn sensors(&self) -> &[Sensor] {
+        &self.sensors
+    }
+
+    /// The kept hypotheses, most likely first; their probabilities sum to one.
+    pub fn hypotheses(&self) -> &[Hypothesis] {
+        &self.hypotheses
+    }
+
+    /// The most likely hypothesis.
+    pub fn best(&self) -> &Hypothesis {
+        &self.hypotheses[0]
+    }
+
+    /// Number of scans processed.
+    pub fn scans(&self) -> usize {
+        self.scans
+    }
+
+    /// Processes one scan of `sensor` at `time`: `detections` are `(index, detection)` pairs,
+    /// `index` being the caller's identifier recorded in the tracks' contacts. An empty scan still
+    /// charges the missed-detection factor. The `scan` field of the detections is overwritten by
+    /// the tracker's own scan counter.
+    pub fn process_scan(
+        &mut self,
+        time: f64,
+        sensor: usize,
+        detections: &[(usize, Detection)],
+    ) -> Result<()> {
+        if !time.is_finite() {
+            return Err(Error::Invalid(format!(
+                "scan {}: time is not finite ({time})",
+                self.scans
+            )));
+        }
+        if time < self.time {
+            return Err(Error::Invalid(format!(
+                "scan {}: time {time} is before the previous scan at {}; scans must be in time order",
+                self.scans, self.time
+            )));
+        }
+        if sensor >= self.sensors.len() {
+            return Err(Error::Invalid(format!(
+                "scan {}: sensor {sensor} does not exist ({} sensors)",
+                self.scans,
+                self.sensors.len()
+            )));
+        }
+        for (index, d) in detections {
+            if d.sensor != sensor || d.time != time {
+                return Err(Error::Invalid(format!(
+                    "detection {index}: sensor {} at time {} does not belong to the scan of sensor {sensor} at {time}",
+                    d.sensor, d.time
+                )));
+            }
+            for (field, value) in [("range", d.range), ("range_rate", d.range_rate)] {
+                if !value.is_finite() {
+                    return Err(Error::NonFinite {
+                        what: "detection",
+                        row: *index,
+                        field,
+                        value,
+                    });
+                }
+            }
+            if d.range < 0.0 {
+                return Err(Error::Invalid(format!(
+                    "detection {index}: negative range {}",
+                    d.range
+                )));
+            }
+        }
+        let scan = self.scans;
+        self.close_coasting(time);
+        let cap = self.config.scan_cap.unwrap_or(self.config.max_hypotheses);
+        for (index, d) in detections {
+            let det = Detection { scan, ..*d };
+            self.expand(*index, &det, cap);
+        }
+        // Missed detections.
+        let miss = (1.0 - self.config.pd).ln();
+        let s = &self.sensors[sensor];
+        for h in &mut self.hypotheses {
+            let n = h
+                .tracks
+                .iter()
+                .filter(|t| t.last_scan != scan && t.detectable_by(s))
+                .count();
+            h.log_weight += n as f64 * miss;
+        }
+        self.prune(self.config.max_hypotheses);
+        self.time = time;
+        self.scans += 1;
+        Ok(())
+    }
+
+    /// Runs the tracker over detections sorted by time and grouped by scan (consecutive
+    /// detections with the same `scan` value); `scans` lists every scan `(time, sensor)` in order,
+    /// including empty ones, and detection `k` must belong to one of them. Returns the best
+    /// hypothesis after each scan through `observe(scan_index, time, tracker)`.
+    pub fn run<F: FnMut(usize, f64, &Mht)>(
+        &mut self,
+        scans: &[(f64, usize)],
+        detections: &[Detection],
+        mut observe: F,
+    ) -> Result<()> {
+        let mut k = 0usize;
+        let mut batch = Vec::new();
+        for (si, &(t, sensor)) in scans.iter().enumerate() {
+            batch.clear();
+            while k < detections.len() && detections[k].scan == si {
+                batch.push((k, detections[k]));
+                k += 1;
+            }
+            self.process_scan(t, sensor, &batch)?;
+            observe(si, t, self);
+        }
+        if k != detections.len() {
+            return Err(Error::Invalid(format!(
+                "detection {k}: scan {} is not in the scan list or detections are not grouped by scan in order",
+                detections[k].scan
+            )));
+        }
+        Ok(())
+    }
+
+    fn close_coasting(&mut self, time: f64) {
+        let max_coast = self.config.max_coast;
+        for h in &mut self.hypotheses {
+            if h.tracks.iter().all(|t| time - t.last_time <= max_coast) {
+                continue;
+            }
+            let mut open = Vec::with_capacity(h.tracks.len());
+            for t in h.tracks.drain(..) {
+                if time - t.last_time <= max_coast {
+                    open.push(t);
+                } else {
+                    h.closed = Some(Arc::new(Closed {
+                        track: t,
+                        prev: h.closed.take(),
+                    }));
+                }
+            }
+            h.tracks = open;
+        }
+    }
+
+    fn expand(&mut self, index: usize, det: &Detection, cap: usize) {
+        let cfg = self.config;
+        let ln_fa = cfg.false_alarm_density.ln();
+        let ln_nt = cfg.new_target_density.ln();
+        let ln_pd = cfg.pd.ln();
+        let mut cache: HashMap<*const Track, Option<(Arc<Track>, f64)>> = HashMap::new();
+        let mut children = Vec::new();
+        for (pi, h) in self.hypotheses.iter().enumerate() {
+            if cfg.false_alarm_hypotheses {
+                children.push(Child {
+                    log_weight: h.log_weight + ln_fa,
+                    parent: pi,
+                    action: Action::FalseAlarm,
+                });
+            }
+            children.push(Child {
+                log_weight: h.log_weight + ln_nt,
+                parent: pi,
+                action: Action::NewTrack,
+            });
+            for (slot, t) in h.tracks.iter().enumerate() {
+                if t.last_scan == det.scan {
+                    continue;
+                }
+                let entry = cache.entry(Arc::as_ptr(t)).or_insert_with(|| {
+                    t.associate(index, det, &self.sensors, &cfg)
+                        .map(|(nt, ll)| (Arc::new(nt), ll))
+                });
+                if let Some((nt, ll)) = entry {
+                    children.push(Child {
+                        log_weight: h.log_weight + ln_pd + *ll,
+                        parent: pi,
+                        action: Action::Update(slot, nt.clone()),
+                    });
+                }
+            }
+        }
+        let by_weight = |a: &Child, b: &Child| {
+            b.log_weight
+                .total_cmp(&a.log_weight)
+                .then(a.parent.cmp(&b.parent))
+        };
+        if children.len() > cap {
+            children.select_nth_unstable_by(cap - 1, by_weight);
+            children.truncate(cap);
+        }
+        let new_track = Arc::new(Track::start(index, det, &cfg.noise.covariance()));
+        let mut next = Vec::with_capacity(children.len());
+        for c in children {
+            let parent = &self.hypotheses[c.parent];
+            let mut tracks = parent.tracks.clone();
+            match c.action {
+                Action::FalseAlarm => {}
+                Action::NewTrack => tracks.push(new_track.clone()),
+                Action::Update(slot, t) => tracks[slot] = t,
+            }
+            next.push(Hypothesis {
+                log_weight: c.log_weight,
+                tracks,
+                closed: parent.closed.clone(),
+            });
+        }
+        self.hypotheses = next;
+        self.prune(cap);
+    }
+
+    /// Keeps the `n` most likely hypotheses, sorted, with probabilities normalised to one.
+    fn prune(&mut self, n: usize) {
+        self.hypotheses
+            .sort_by(|a, b| b.log_weight.total_cmp(&a.log_weight));
+        self.hypotheses.truncate(n);
+        let top = self.hypotheses[0].log_weight;
+        let sum: f64 = self
+            .hypotheses
+            .iter()
+            .map(|h| (h.log_weight - top).exp())
+            .sum();
+        let norm = top + sum.ln();
+        for h in &mut self.hypotheses {
+            h.log_weight -= norm;
+        }
+    }
+}

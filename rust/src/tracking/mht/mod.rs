@@ -1,0 +1,51 @@
+//! Multiple-hypothesis trilateration and tracking with distributed radars (seed 004: van Kleef,
+//! Bergmans, Kester, Groen, "Multiple-Hypothesis Trilateration and Tracking with Distributed
+//! Radars").
+//!
+//! - [`sensor`]: range / range-rate radars at arbitrary positions, `h_i` and its Jacobian (eqs. 20-21).
+//! - [`scenario`]: the seeded simulator of section 5.1 (M-shaped trajectories, asynchronous scans,
+//!   false alarms uniform in range-Doppler).
+//! - [`trilateration`]: two detections to a Cartesian state and its covariance (eqs. 1-9).
+//! - [`range_doppler`]: Kalman filter of single-sensor tracks (section 4.2).
+//! - [`cartesian`]: extended Kalman filter of multi-sensor tracks (section 4.3).
+//! - [`track`]: flexible-state tracks and the three association types (section 3).
+//! - [`hypothesis`]: Reid's measurement-oriented MHT and the single-hypothesis baseline.
+//! - [`metrics`]: T_PD, T_FAR, position and velocity errors (section 5.2).
+//! - [`study`]: the Monte-Carlo reproduction of Tables 1 and 2.
+//!
+//! A Cartesian track's position covariance is a geofeas [`crate::Ellipse`]
+//! ([`track::Track::ellipse`]), so tracks of two radar networks can be scored with the
+//! geofeasibility scores.
+
+pub mod cartesian;
+pub mod hypothesis;
+pub mod metrics;
+pub mod range_doppler;
+pub mod scenario;
+pub mod sensor;
+pub mod study;
+pub mod track;
+pub mod trilateration;
+
+use nalgebra::{Matrix2, Vector2};
+
+pub use hypothesis::{Hypothesis, Mht, MhtConfig};
+pub use metrics::{Evaluation, Metrics, Tally};
+pub use scenario::{Scenario, Trajectory};
+pub use sensor::{Detection, Noise, Sensor};
+pub use study::{paper_cells, run_one, study, Cell, StudyOptions, TrackerKind};
+pub use track::Track;
+pub use trilateration::{trilaterate, trilaterate_gaussian, Trilateration};
+
+/// For an innovation `e` with covariance `s`: `(S^-1, ln N(e; 0, S), e^T S^-1 e)`, or `None` if
+/// `s` is not positive definite.
+pub(crate) fn innovation(e: &Vector2<f64>, s: &Matrix2<f64>) -> Option<(Matrix2<f64>, f64, f64)> {
+    let det = s[(0, 0)] * s[(1, 1)] - s[(0, 1)] * s[(1, 0)];
+    if !(det > 0.0 && s[(0, 0)] > 0.0 && det.is_finite()) {
+        return None;
+    }
+    let sinv = Matrix2::new(s[(1, 1)], -s[(0, 1)], -s[(1, 0)], s[(0, 0)]) / det;
+    let d2 = (e.transpose() * sinv * e)[(0, 0)];
+    let loglik = -0.5 * d2 - (2.0 * std::f64::consts::PI).ln() - 0.5 * det.ln();
+    Some((sinv, loglik, d2))
+}

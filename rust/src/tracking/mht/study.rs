@@ -1,0 +1,184 @@
+//! Monte-Carlo reproduction of Tables 1 and 2 of seed 004 (section 5).
+//!
+//! A [`Cell`] is one column of a table: number of targets, number of sensors, tracker (MHT with
+//! 50 hypotheses or the single-hypothesis baseline) and false alarms per sensor per scan. Each of
+//! `runs` runs simulates the scenario with its own random stream derived from
+//! `(seed, targets, sensors, false alarms, run)` (the same data for both trackers, whatever the
+//! number of threads), tracks it, scores the best hypothesis after every scan ([`Tally`]), and
+//! the tallies of all runs are pooled. Runs are spread over threads with rayon.
+
+use rayon::prelude::*;
+
+use super::hypothesis::{Hypothesis, Mht, MhtConfig};
+use super::metrics::{Evaluation, Metrics, Tally};
+use super::scenario::Scenario;
+use super::sensor::Detection;
+use crate::error::{Error, Result};
+use crate::score::monte_carlo::{mix64, stream};
+
+/// The tracker of a study cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TrackerKind {
+    /// Multiple hypotheses (paper: 50).
+    Mht,
+    /// Single hypothesis (global nearest neighbour).
+    Single,
+}
+
+impl TrackerKind {
+    /// `"mht"` or `"single"`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            TrackerKind::Mht => "mht",
+            TrackerKind::Single => "single",
+        }
+    }
+}
+
+/// One column of Table 1 or 2.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Cell {
+    /// 1 or 2 targets.
+    pub targets: usize,
+    /// 2 or 3 sensors.
+    pub sensors: usize,
+    /// The tracker.
+    pub tracker: TrackerKind,
+    /// False alarms per sensor per scan.
+    pub false_alarms: usize,
+}
+
+/// Study options.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StudyOptions {
+    /// Monte-Carlo runs per cell.
+    pub runs: usize,
+    /// Seed of the random streams.
+    pub seed: u64,
+    /// Hypotheses kept by the MHT (paper: 50).
+    pub max_hypotheses: usize,
+}
+
+impl Default for StudyOptions {
+    fn default() -> Self {
+        Self {
+            runs: 20,
+            seed: 0,
+            max_hypotheses: 50,
+        }
+    }
+}
+
+/// The output of one run.
+#[derive(Debug, Clone)]
+pub struct RunOutput {
+    /// The simulated scenario.
+    pub scenario: Scenario,
+    /// Scan times `(time, sensor)`.
+    pub scans: Vec<(f64, usize)>,
+    /// All detections, in processing order.
+    pub detections: Vec<Detection>,
+    /// The most likely hypothesis at the end.
+    pub best: Hypothesis,
+    /// The metric sums of this run.
+    pub tally: Tally,
+}
+
+/// Every cell of the paper's tables: one target with 0, 1, 2, 4, 6 and two targets with 0-4
+/// false alarms per sensor per scan, three and two sensors, MHT and single hypothesis.
+pub fn paper_cells() -> Vec<Cell> {
+    let mut cells = Vec::new();
+    for tracker in [TrackerKind::Mht, TrackerKind::Single] {
+        for sensors in [3, 2] {
+            for (targets, fas) in [(1usize, vec![0usize, 1, 2, 4, 6]), (2, vec![0, 1, 2, 3, 4])] {
+                for false_alarms in fas {
+                    cells.push(Cell {
+                        targets,
+                        sensors,
+                        tracker,
+                        false_alarms,
+                    });
+                }
+            }
+        }
+    }
+    cells
+}
+
+/// The tracker configuration of a cell.
+pub fn tracker_config(cell: &Cell, scenario: &Scenario, opts: &StudyOptions) -> MhtConfig {
+    let base = MhtConfig {
+        max_hypotheses: opts.max_hypotheses,
+        ..MhtConfig::for_scenario(scenario)
+    };
+    match cell.tracker {
+        TrackerKind::Mht => base,
+        TrackerKind::Single => base.single_hypothesis(),
+    }
+}
+
+/// Simulates and tracks run `run` of `cell`.
+pub fn run_one(cell: &Cell, opts: &StudyOptions, run: usize) -> Result<RunOutput> {
+    let scenario = Scenario::paper(cell.targets, cell.sensors, cell.false_alarms)?.validated()?;
+    let key = (cell.targets as u64) << 40 | (cell.sensors as u64) << 32 | cell.false_alarms as u64;
+    let mut rng = stream(opts.seed ^ mix64(key), run as u64);
+    let detections = scenario.simulate(&mut rng);
+    let scans = scenario.scan_times();
+    let mut mht = Mht::new(
+        scenario.sensors.clone(),
+        tracker_config(cell, &scenario, opts),
+    )?;
+    let eval = Evaluation::default();
+    let mut tally = Tally {
+        duration: scenario.duration,
+        ..Tally::default()
+    };
+    let mut done = 0usize;
+    mht.run(&scans, &detections, |si, t, m| {
+        while done < detections.len() && detections[done].scan <= si {
+            done += 1;
+        }
+        let next = scans.get(si + 1).map_or(scenario.duration, |s| s.0);
+        tally.observe(
+            &eval,
+            m.best(),
+            &detections[..done],
+            &scenario.targets,
+            next - t,
+        );
+    })?;
+    Ok(RunOutput {
+        best: mht.best().clone(),
+        scenario,
+        scans,
+        detections,
+        tally,
+    })
+}
+
+/// Runs `opts.runs` Monte-Carlo runs of every cell in parallel and returns the pooled metrics,
+/// in the order of `cells`.
+pub fn study(cells: &[Cell], opts: &StudyOptions) -> Result<Vec<(Cell, Metrics)>> {
+    if opts.runs == 0 {
+        return Err(Error::InvalidOption {
+            name: "runs",
+            reason: "must be >= 1".into(),
+        });
+    }
+    let jobs: Vec<(usize, usize)> = (0..cells.len())
+        .flat_map(|c| (0..opts.runs).map(move |r| (c, r)))
+        .collect();
+    let tallies: Vec<Tally> = jobs
+        .par_iter()
+        .map(|&(c, r)| run_one(&cells[c], opts, r).map(|o| o.tally))
+        .collect::<Result<_>>()?;
+    let mut pooled = vec![Tally::default(); cells.len()];
+    for (&(c, _), t) in jobs.iter().zip(&tallies) {
+        pooled[c].merge(t);
+    }
+    Ok(cells
+        .iter()
+        .copied()
+        .zip(pooled.iter().map(Tally::metrics))
+        .collect())
+}
