@@ -63,6 +63,19 @@ impl Cartesian {
         z: Vector2<f64>,
         r: &Matrix2<f64>,
     ) -> Option<(Self, f64, f64)> {
+        self.update_iterated(sensor, z, r, 0)
+    }
+
+    /// [`Cartesian::update`] relinearising `h_i` at the updated estimate `iterations` times
+    /// (iterated EKF, a Gauss-Newton step on the posterior each); the likelihood and gate use the
+    /// linearisation at the prediction.
+    pub fn update_iterated(
+        &self,
+        sensor: &Sensor,
+        z: Vector2<f64>,
+        r: &Matrix2<f64>,
+        iterations: usize,
+    ) -> Option<(Self, f64, f64)> {
         let dx = self.x[0] - sensor.position[0];
         let dy = self.x[1] - sensor.position[1];
         if dx.hypot(dy) <= 1e-9 {
@@ -72,13 +85,30 @@ impl Cartesian {
         let e = z - sensor.measure(&self.x);
         let s = h * self.p * h.transpose() + r;
         let (sinv, loglik, d2) = innovation(&e, &s)?;
-        let k = self.p * h.transpose() * sinv;
+        let mut k = self.p * h.transpose() * sinv;
+        let mut x = self.x + k * e;
+        let mut h = h;
+        // Iterated EKF (Gauss-Newton on the posterior): relinearise h_i at the new estimate.
+        for _ in 0..iterations {
+            let d =
+                ((x[0] - sensor.position[0]).powi(2) + (x[1] - sensor.position[1]).powi(2)).sqrt();
+            if d <= 1e-9 {
+                break;
+            }
+            h = sensor.jacobian(&x);
+            let si = h * self.p * h.transpose() + r;
+            let Some(si_inv) = si.try_inverse() else {
+                break;
+            };
+            k = self.p * h.transpose() * si_inv;
+            x = self.x + k * (z - sensor.measure(&x) - h * (self.x - x));
+        }
         let i_kh = Matrix4::identity() - k * h;
         let p = i_kh * self.p * i_kh.transpose() + k * r * k.transpose();
         Some((
             Self {
                 time: self.time,
-                x: self.x + k * e,
+                x,
                 p: 0.5 * (p + p.transpose()),
             },
             loglik,

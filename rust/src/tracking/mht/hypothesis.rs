@@ -52,6 +52,9 @@ pub struct MhtConfig {
     /// this off: it can never revisit the decision, so every detection it does not assign to a
     /// track starts a tentative track, which is closed if nothing else joins it.
     pub false_alarm_hypotheses: bool,
+    /// Relinearisations of the Cartesian (iterated) EKF update; 0 is the plain EKF of the paper,
+    /// the default 2 keeps tracks through the 4 g turns far more often.
+    pub ekf_iterations: usize,
 }
 
 impl Default for MhtConfig {
@@ -66,10 +69,11 @@ impl Default for MhtConfig {
             accel_sigma: 4.0 * G,
             noise: Noise::default(),
             gate: 16.0,
-            max_coast: 2.0,
+            max_coast: 1.0,
             max_speed: 15.0,
             min_sin_angle: 0.05,
             false_alarm_hypotheses: true,
+            ekf_iterations: 2,
         }
     }
 }

@@ -33,7 +33,7 @@ pub use hypothesis::{Hypothesis, Mht, MhtConfig};
 pub use metrics::{Evaluation, Metrics, Tally};
 pub use scenario::{Scenario, Trajectory};
 pub use sensor::{Detection, Noise, Sensor};
-pub use study::{paper_cells, run_one, study, Cell, StudyOptions, TrackerKind};
+pub use study::{paper_cells, run_one, run_one_with, study, Cell, StudyOptions, TrackerKind};
 pub use track::Track;
 pub use trilateration::{trilaterate, trilaterate_gaussian, Trilateration};
 

@@ -119,6 +119,16 @@ pub fn tracker_config(cell: &Cell, scenario: &Scenario, opts: &StudyOptions) -> 
 
 /// Simulates and tracks run `run` of `cell`.
 pub fn run_one(cell: &Cell, opts: &StudyOptions, run: usize) -> Result<RunOutput> {
+    run_one_with(cell, opts, run, |c| c)
+}
+
+/// [`run_one`] with the tracker configuration passed through `adjust`.
+pub fn run_one_with<F: Fn(MhtConfig) -> MhtConfig>(
+    cell: &Cell,
+    opts: &StudyOptions,
+    run: usize,
+    adjust: F,
+) -> Result<RunOutput> {
     let scenario = Scenario::paper(cell.targets, cell.sensors, cell.false_alarms)?.validated()?;
     let key = (cell.targets as u64) << 40 | (cell.sensors as u64) << 32 | cell.false_alarms as u64;
     let mut rng = stream(opts.seed ^ mix64(key), run as u64);
@@ -126,7 +136,7 @@ pub fn run_one(cell: &Cell, opts: &StudyOptions, run: usize) -> Result<RunOutput
     let scans = scenario.scan_times();
     let mut mht = Mht::new(
         scenario.sensors.clone(),
-        tracker_config(cell, &scenario, opts),
+        adjust(tracker_config(cell, &scenario, opts)),
     )?;
     let eval = Evaluation::default();
     let mut tally = Tally {

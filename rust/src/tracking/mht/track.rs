@@ -245,8 +245,11 @@ impl Track {
                 if !si.sees(pred.position()) {
                     return None;
                 }
-                let (upd, loglik, d2) = pred.update(si, det.z(), &r)?;
-                if d2 > cfg.gate {
+                let (upd, loglik, d2) =
+                    pred.update_iterated(si, det.z(), &r, cfg.ekf_iterations)?;
+                // The updated track must stay in front of the sensor: with collinear sensors the
+                // mirror image behind them explains the detections equally well.
+                if d2 > cfg.gate || !si.in_beam(upd.position()) {
                     return None;
                 }
                 Some((self.extended(index, det, Estimate::Cartesian(upd)), loglik))
