@@ -12,6 +12,7 @@
 pub mod glr;
 pub mod monte_carlo;
 pub mod polygon;
+pub mod spec;
 
 use rayon::prelude::*;
 
@@ -21,6 +22,7 @@ use crate::error::{Error, Result};
 pub use glr::Glr;
 pub use monte_carlo::MonteCarlo;
 pub use polygon::Polygon;
+pub use spec::{Options, Score};
 
 /// A geofeasibility score of two ellipses.
 pub trait PairScore: Sync {

@@ -56,7 +56,12 @@ pub fn monte_carlo<R: rand::Rng>(a: &Ellipse, b: &Ellipse, samples: usize, rng: 
     // n(x) = w + M z.
     let ([e1x, e1y], [e2x, e2y]) = small.axes();
     let (so, co) = other.phi.sin_cos();
-    let to_o = |dx: f64, dy: f64| [(dx * so + dy * co) / other.rx, (dx * co - dy * so) / other.ry];
+    let to_o = |dx: f64, dy: f64| {
+        [
+            (dx * so + dy * co) / other.rx,
+            (dx * co - dy * so) / other.ry,
+        ]
+    };
     let w = to_o(small.x0 - other.x0, small.y0 - other.y0);
     let c1 = to_o(0.5 * small.rx * e1x, 0.5 * small.rx * e1y);
     let c2 = to_o(0.5 * small.ry * e2x, 0.5 * small.ry * e2y);
