@@ -42,7 +42,9 @@ def main(path: str, out: str = "python/geofeas/data/example_pairs.csv") -> None:
         radar = (
             E0 + x + rng.normal(0, srange) * math.sin(brg) + rng.normal(0, sbear) * math.cos(brg),
             N0 + y + rng.normal(0, srange) * math.cos(brg) - rng.normal(0, sbear) * math.sin(brg),
-            rx_r, ry_r, (brg + math.pi / 2) % math.pi,
+            rx_r,
+            ry_r,
+            (brg + math.pi / 2) % math.pi,
         )
         d = np.hypot(*(xy - xy[k]).T)
         d[k] = np.inf
@@ -51,11 +53,18 @@ def main(path: str, out: str = "python/geofeas/data/example_pairs.csv") -> None:
         rows.append((mmsi, ids[j], "neighbour", ais, None))
     with open(out, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["track_a", "track_b", "truth"] + [f"{s}_{f}" for s in "ab" for f in ("x0", "y0", "rx", "ry", "phi")])
+        w.writerow(
+            ["track_a", "track_b", "truth"]
+            + [f"{s}_{f}" for s in "ab" for f in ("x0", "y0", "rx", "ry", "phi")]
+        )
         radar_of = {r[0]: r[4] for r in rows if r[2] == "same"}
         for a, b, truth, ais, _ in rows:
             rad = radar_of[b]
-            w.writerow([f"ais-{a}", f"radar-{b}", truth] + [f"{v:.3f}" if i < 2 else f"{v:.4f}" for i, v in enumerate(ais)] + [f"{v:.3f}" if i < 2 else f"{v:.4f}" for i, v in enumerate(rad)])
+            w.writerow(
+                [f"ais-{a}", f"radar-{b}", truth]
+                + [f"{v:.3f}" if i < 2 else f"{v:.4f}" for i, v in enumerate(ais)]
+                + [f"{v:.3f}" if i < 2 else f"{v:.4f}" for i, v in enumerate(rad)]
+            )
 
 
 if __name__ == "__main__":

@@ -83,9 +83,7 @@ def overlap(a: np.ndarray, b: np.ndarray, n: int = 2048) -> np.ndarray:
     return np.clip((4 * g2 - g1) / 3, 0.0, 1.0)
 
 
-def monte_carlo(
-    a: np.ndarray, b: np.ndarray, samples: int, rng: np.random.Generator
-) -> np.ndarray:
+def monte_carlo(a: np.ndarray, b: np.ndarray, samples: int, rng: np.random.Generator) -> np.ndarray:
     """Eq. 55 with samples from the Gaussian of the smaller ellipse and weights ``1/p``."""
     a, b = np.atleast_2d(a), np.atleast_2d(b)
     out = np.empty(len(a))
@@ -122,7 +120,9 @@ def circle_lens_area(r1: float, r2: float, d: float) -> float:
     return float(a1 + a2 - k)
 
 
-def random_pairs(n: int, rng: np.random.Generator, spread: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def random_pairs(
+    n: int, rng: np.random.Generator, spread: float = 1.0
+) -> tuple[np.ndarray, np.ndarray]:
     """Random ellipse pairs as in Fig. 6: varying size, orientation, aspect and overlap."""
     a = np.empty((n, 5))
     b = np.empty((n, 5))

@@ -8,10 +8,11 @@ import threading
 
 import numpy as np
 import pytest
-import reference as ref
 
 import geofeas
 from geofeas import GeofeasError
+
+import reference as ref
 
 A = np.array([0.0, 0.0, 2.0, 1.0, 0.3])
 B = np.array([1.0, 0.5, 1.5, 1.5, 1.0])
@@ -67,8 +68,12 @@ def test_non_contiguous_and_int_input():
     np.testing.assert_array_equal(geofeas.glr(strided, b), geofeas.glr(a, b))
     np.testing.assert_array_equal(geofeas.glr(np.asfortranarray(a), b), geofeas.glr(a, b))
     ints = np.array([[0, 0, 2, 1, 0], [1, 1, 3, 2, 1]])
-    np.testing.assert_array_equal(geofeas.glr(ints, ints[::-1]), geofeas.glr(ints.astype(float), ints[::-1].astype(float)))
-    assert geofeas.glr([0, 0, 1, 1, 0], (0.5, 0, 1, 1, 0)) == pytest.approx(np.exp(-0.25 * 0.5 * 4 / 2 * 0.5 * 2))
+    np.testing.assert_array_equal(
+        geofeas.glr(ints, ints[::-1]), geofeas.glr(ints.astype(float), ints[::-1].astype(float))
+    )
+    assert geofeas.glr([0, 0, 1, 1, 0], (0.5, 0, 1, 1, 0)) == pytest.approx(
+        np.exp(-0.25 * 0.5 * 4 / 2 * 0.5 * 2)
+    )
     f32 = a.astype(np.float32)
     assert geofeas.glr(f32, b).dtype == np.float64
 
@@ -152,13 +157,18 @@ def test_monte_carlo_bit_identical_across_thread_counts():
     code = (
         "import numpy as np, geofeas, sys;"
         "rng = np.random.default_rng(0);"
-        "a = rng.uniform(1, 2, (3000, 5)); b = a + rng.uniform(-1, 1, (3000, 5)) * [1, 1, 0.2, 0.2, 1];"
+        "a = rng.uniform(1, 2, (3000, 5));"
+        "b = a + rng.uniform(-1, 1, (3000, 5)) * [1, 1, 0.2, 0.2, 1];"
         "sys.stdout.write(geofeas.monte_carlo(a, b, seed=77).tobytes().hex())"
     )
     outs = []
     for threads in ("1", "2", "3"):
         env = dict(os.environ, RAYON_NUM_THREADS=threads)
-        outs.append(subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True).stdout)
+        outs.append(
+            subprocess.run(
+                [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+            ).stdout
+        )
     assert outs[0] == outs[1] == outs[2]
 
 

@@ -26,7 +26,11 @@ def test_score_example(tmp_path):
 
 
 def test_entry_point_runs():
-    r = subprocess.run([sys.executable, "-m", "geofeas.cli", "score", "example", "--score", "glr"], capture_output=True, text=True)
+    r = subprocess.run(
+        [sys.executable, "-m", "geofeas.cli", "score", "example", "--score", "glr"],
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 0 and r.stdout.startswith("track_a,track_b")
 
 
@@ -34,10 +38,22 @@ def test_entry_point_runs():
     "body, message",
     [
         ("a_x0,a_y0\n1,2\n", "missing column"),
-        ("a_x0,a_y0,a_rx,a_ry,a_phi,b_x0,b_y0,b_rx,b_ry,b_phi\n0,0,1,1,0,1,1,1,1,0\n0,0,1,x,0,1,1,1,1,0\n", "line 3: column a_ry"),
-        ("a_x0,a_y0,a_rx,a_ry,a_phi,b_x0,b_y0,b_rx,b_ry,b_phi\n0,0,1,1,0,1,1,-1,1,0\n", "line 2: column b_rx"),
-        ("a_x0,a_y0,a_rx,a_ry,a_phi,b_x0,b_y0,b_rx,b_ry,b_phi\n0,0,1,1,nan,1,1,1,1,0\n", "line 2: column a_phi"),
-        ("a_x0,a_y0,a_rx,a_ry,a_phi,b_x0,b_y0,b_rx,b_ry,b_phi\n0,0,1,1,0,1,1,1\n", "line 2: 8 fields"),
+        (
+            "a_x0,a_y0,a_rx,a_ry,a_phi,b_x0,b_y0,b_rx,b_ry,b_phi\n0,0,1,1,0,1,1,1,1,0\n0,0,1,x,0,1,1,1,1,0\n",
+            "line 3: column a_ry",
+        ),
+        (
+            "a_x0,a_y0,a_rx,a_ry,a_phi,b_x0,b_y0,b_rx,b_ry,b_phi\n0,0,1,1,0,1,1,-1,1,0\n",
+            "line 2: column b_rx",
+        ),
+        (
+            "a_x0,a_y0,a_rx,a_ry,a_phi,b_x0,b_y0,b_rx,b_ry,b_phi\n0,0,1,1,nan,1,1,1,1,0\n",
+            "line 2: column a_phi",
+        ),
+        (
+            "a_x0,a_y0,a_rx,a_ry,a_phi,b_x0,b_y0,b_rx,b_ry,b_phi\n0,0,1,1,0,1,1,1\n",
+            "line 2: 8 fields",
+        ),
         ("", "empty file"),
     ],
 )

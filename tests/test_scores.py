@@ -3,9 +3,10 @@ invariants and edge cases."""
 
 import numpy as np
 import pytest
-import reference as ref
 
 import geofeas
+
+import reference as ref
 
 N_RANDOM = 10_000
 
@@ -223,4 +224,6 @@ def test_monte_carlo_seeds():
     assert not np.array_equal(g1, geofeas.monte_carlo(a, b, seed=124))
     # elementwise pair k and cdist pair (i, j) draw from stream k = i * m + j
     c = geofeas.cdist(a[:1], b[:50], score="monte_carlo", seed=123)
-    np.testing.assert_array_equal(c[0], geofeas.monte_carlo(np.tile(a[0], (50, 1)), b[:50], seed=123))
+    np.testing.assert_array_equal(
+        c[0], geofeas.monte_carlo(np.tile(a[0], (50, 1)), b[:50], seed=123)
+    )

@@ -53,7 +53,7 @@ def read_pairs(path: Path) -> tuple[list[str], list[list[str]], np.ndarray]:
                     f"{path}: line {line}: {len(row)} fields, header has {len(header)}"
                 )
             parsed = []
-            for col, i in zip(COLUMNS, index):
+            for col, i in zip(COLUMNS, index, strict=True):
                 try:
                     value = float(row[i])
                 except ValueError:
@@ -122,7 +122,10 @@ def add_parser(sub: Any) -> None:
     p.add_argument("input", help="pairs CSV, or 'example' for the bundled example")
     p.add_argument("--out", "-o", default="-", help="output CSV (default: standard output)")
     p.add_argument(
-        "--score", action="append", choices=SCORES, help="score to compute (repeatable; default all)"
+        "--score",
+        action="append",
+        choices=SCORES,
+        help="score to compute (repeatable; default all)",
     )
     p.add_argument("--vertices", type=int, default=DEFAULT_VERTICES, help="polygon resolution")
     p.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per pair")

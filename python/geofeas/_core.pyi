@@ -3,6 +3,17 @@
 import numpy as np
 from numpy.typing import NDArray
 
+__all__ = [
+    "GeofeasError",
+    "__version__",
+    "from_gaussian",
+    "polygon_error_bound",
+    "score_cdist",
+    "score_pairs",
+    "to_gaussian",
+    "validate_ellipses",
+]
+
 __version__: str
 
 class GeofeasError(ValueError):

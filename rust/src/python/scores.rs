@@ -39,7 +39,7 @@ fn options(threshold: bool, method: String, vertices: usize, samples: usize, see
 
 /// Elementwise scores of `a[k]` and `b[k]` (a length-1 side broadcasts).
 #[pyfunction]
-#[pyo3(signature = (a, b, score, *, threshold=false, method="polygon".to_string(), vertices=256, samples=500, seed=0))]
+#[pyo3(signature = (a, b, score, *, threshold=false, method="polygon", vertices=256, samples=500, seed=0))]
 #[allow(clippy::too_many_arguments)]
 fn score_pairs<'py>(
     py: Python<'py>,
@@ -47,12 +47,15 @@ fn score_pairs<'py>(
     b: PyReadonlyArray2<'py, f64>,
     score: &str,
     threshold: bool,
-    method: String,
+    method: &str,
     vertices: usize,
     samples: usize,
     seed: u64,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let spec = Score::from_name(score, &options(threshold, method, vertices, samples, seed))?;
+    let spec = Score::from_name(
+        score,
+        &options(threshold, method.to_string(), vertices, samples, seed),
+    )?;
     let (ea, eb) = (ellipses("a", &a)?, ellipses("b", &b)?);
     let n = broadcast_len(ea.len(), eb.len())?;
     let out = detached(py, || {
@@ -65,7 +68,7 @@ fn score_pairs<'py>(
 
 /// All-pairs scores, `(n, 5) x (m, 5) -> (n, m)`, refused above `max_bytes` of output.
 #[pyfunction]
-#[pyo3(signature = (a, b, score, *, max_bytes, threshold=false, method="polygon".to_string(), vertices=256, samples=500, seed=0))]
+#[pyo3(signature = (a, b, score, *, max_bytes, threshold=false, method="polygon", vertices=256, samples=500, seed=0))]
 #[allow(clippy::too_many_arguments)]
 fn score_cdist<'py>(
     py: Python<'py>,
@@ -74,12 +77,15 @@ fn score_cdist<'py>(
     score: &str,
     max_bytes: u128,
     threshold: bool,
-    method: String,
+    method: &str,
     vertices: usize,
     samples: usize,
     seed: u64,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let spec = Score::from_name(score, &options(threshold, method, vertices, samples, seed))?;
+    let spec = Score::from_name(
+        score,
+        &options(threshold, method.to_string(), vertices, samples, seed),
+    )?;
     let (ea, eb) = (ellipses("a", &a)?, ellipses("b", &b)?);
     let (n, m) = (ea.len(), eb.len());
     check_cdist_size(n, m, max_bytes)?;
