@@ -18,7 +18,7 @@ fn random_pairs(n: usize, seed: u64) -> (Vec<Ellipse>, Vec<Ellipse>) {
             y + rng.random_range(-1.0..1.0),
             rx,
             rx * rng.random_range(0.2..1.0),
-            rng.random_range(-3.14..3.14),
+            rng.random_range(-std::f64::consts::PI..std::f64::consts::PI),
         )
     };
     let a: Vec<Ellipse> = (0..n).map(|_| gen(0.0, 0.0)).collect();
@@ -52,13 +52,7 @@ fn bench_pairs(c: &mut Criterion) {
             &vertices,
             |bench, &v| {
                 bench.iter(|| {
-                    score_pairs(
-                        &Polygon { vertices: v },
-                        &a,
-                        &b,
-                        black_box(&mut out),
-                        &mut || false,
-                    )
+                    score_pairs(&Polygon::new(v), &a, &b, black_box(&mut out), &mut || false)
                 })
             },
         );

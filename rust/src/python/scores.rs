@@ -184,7 +184,7 @@ fn validate_ellipses(py: Python<'_>, e: PyReadonlyArray2<'_, f64>) -> PyResult<(
 /// The documented polygon-overlap error bound for `vertices` and area ratio `A_max / A_min`.
 #[pyfunction]
 fn polygon_error_bound(vertices: usize, ratio: f64) -> f64 {
-    crate::score::Polygon { vertices }.error_bound(ratio)
+    crate::score::Polygon::new(vertices).error_bound(ratio)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -65,9 +65,7 @@ impl Score {
                             ),
                         });
                     }
-                    Ok(Self::Polygon(Polygon {
-                        vertices: options.vertices,
-                    }))
+                    Ok(Self::Polygon(Polygon::new(options.vertices)))
                 }
                 other => Err(Error::InvalidOption {
                     name: "method",
