@@ -14,8 +14,10 @@ use crate::error::{Error, Result};
 /// Names of the five ellipse fields, in array column order.
 pub const FIELDS: [&str; 5] = ["x0", "y0", "rx", "ry", "phi"];
 
-/// A 2-sigma area of uncertainty.
+/// A 2-sigma area of uncertainty. `repr(C)`: a row-major `(n, 5)` float64 array is a
+/// `[Ellipse]` (see [`Ellipse::from_flat`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C)]
 pub struct Ellipse {
     /// Centre, east (metres or any planar unit).
     pub x0: f64,
@@ -60,6 +62,21 @@ impl Ellipse {
     /// From a row `[x0, y0, rx, ry, phi]`.
     pub fn from_row(row: &[f64]) -> Self {
         Self::new(row[0], row[1], row[2], row[3], row[4])
+    }
+
+    /// Views a flat row-major buffer of `5 n` values as `n` ellipses, without copying.
+    pub fn from_flat(data: &[f64]) -> Result<&[Ellipse]> {
+        if data.len() % 5 != 0 {
+            return Err(Error::Shape {
+                what: "ellipses",
+                expected: "a multiple of 5 values".into(),
+                got: data.len().to_string(),
+            });
+        }
+        // SAFETY: `Ellipse` is `repr(C)` with five `f64` fields, so it has the size (40) and
+        // alignment (8) of `[f64; 5]`; the slice covers exactly `data.len() / 5` such records
+        // and borrows `data` for its whole lifetime.
+        Ok(unsafe { std::slice::from_raw_parts(data.as_ptr().cast::<Ellipse>(), data.len() / 5) })
     }
 
     /// The row `[x0, y0, rx, ry, phi]`.
@@ -111,7 +128,11 @@ impl Ellipse {
         let b = 0.25 * self.ry * self.ry;
         Gaussian {
             mean: [self.x0, self.y0],
-            cov: [a * s * s + b * c * c, (a - b) * s * c, a * c * c + b * s * s],
+            cov: [
+                a * s * s + b * c * c,
+                (a - b) * s * c,
+                a * c * c + b * s * s,
+            ],
         }
     }
 
@@ -212,7 +233,13 @@ impl Gaussian {
         let theta = 0.5 * (2.0 * xy).atan2(xx - yy);
         if l1 == l2 {
             // A circle: every bearing is an axis; report 0.
-            return Ellipse::new(self.mean[0], self.mean[1], 2.0 * l1.sqrt(), 2.0 * l1.sqrt(), 0.0);
+            return Ellipse::new(
+                self.mean[0],
+                self.mean[1],
+                2.0 * l1.sqrt(),
+                2.0 * l1.sqrt(),
+                0.0,
+            );
         }
         let mut phi = std::f64::consts::FRAC_PI_2 - theta;
         phi = phi.rem_euclid(std::f64::consts::PI);
@@ -268,7 +295,12 @@ mod tests {
 
     #[test]
     fn round_trip() {
-        for &(rx, ry, phi) in &[(3.0, 1.0, 0.3), (1.0, 3.0, 2.0), (5.0, 5.0, 1.0), (1e3, 1.0, 3.1)] {
+        for &(rx, ry, phi) in &[
+            (3.0, 1.0, 0.3),
+            (1.0, 3.0, 2.0),
+            (5.0, 5.0, 1.0),
+            (1e3, 1.0, 3.1),
+        ] {
             let e = Ellipse::new(10.0, -4.0, rx, ry, phi);
             let back = e.to_gaussian().to_ellipse();
             let g1 = e.to_gaussian();
@@ -303,9 +335,13 @@ mod tests {
             .validated(7)
             .unwrap_err();
         assert!(err.to_string().contains("row 7") && err.to_string().contains("y0"));
-        let err = Ellipse::new(0.0, 0.0, 1.0, 0.0, 0.0).validated(3).unwrap_err();
+        let err = Ellipse::new(0.0, 0.0, 1.0, 0.0, 0.0)
+            .validated(3)
+            .unwrap_err();
         assert!(err.to_string().contains("ry"));
-        assert!(Gaussian::new([0.0, 0.0], [1.0, 2.0, 1.0]).validated(0).is_err());
+        assert!(Gaussian::new([0.0, 0.0], [1.0, 2.0, 1.0])
+            .validated(0)
+            .is_err());
     }
 
     #[test]

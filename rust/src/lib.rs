@@ -22,6 +22,7 @@
 
 pub mod ellipse;
 pub mod error;
+pub mod fastmath;
 pub mod relation;
 pub mod score;
 pub mod tracking;

@@ -80,6 +80,22 @@ impl BoundaryFn {
         )
     }
 
+    /// `(min, max)` of `f` at 48 equally spaced parameters (no trigonometric calls), with an
+    /// upper bound on the rounding error of each value.
+    #[inline]
+    pub fn sampled(&self) -> (f64, f64, f64) {
+        let k = &self.k;
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        for [c, s, c2, s2] in GRID.iter() {
+            let v = k[0] + k[1] * c2 + k[2] * s2 + k[3] * c + k[4] * s;
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+        let scale = k.iter().map(|x| x.abs()).sum::<f64>();
+        (lo, hi, 16.0 * f64::EPSILON * scale)
+    }
+
     /// `(min f, max f)` over a full turn.
     pub fn extremes(&self) -> (f64, f64) {
         const N: usize = 48;
@@ -132,6 +148,14 @@ impl BoundaryFn {
     }
 }
 
+/// `(cos t, sin t, cos 2t, sin 2t)` at 48 equally spaced `t`.
+static GRID: std::sync::LazyLock<[[f64; 4]; 48]> = std::sync::LazyLock::new(|| {
+    std::array::from_fn(|i| {
+        let t = i as f64 * std::f64::consts::TAU / 48.0;
+        [t.cos(), t.sin(), (2.0 * t).cos(), (2.0 * t).sin()]
+    })
+});
+
 /// The relation of the closed ellipses `a` and `b`. Both must be valid (see
 /// [`Ellipse::validated`]).
 ///
@@ -142,7 +166,13 @@ impl BoundaryFn {
 /// assert_eq!(relation(&big, &Ellipse::circle(30.0, 0.0, 1.0)), Relation::Disjoint);
 /// ```
 pub fn relation(a: &Ellipse, b: &Ellipse) -> Relation {
-    let (amin, amax) = BoundaryFn::new(a, b).extremes();
+    let fa = BoundaryFn::new(a, b);
+    // Fast path: boundary points of `a` clearly inside and clearly outside `b` -> crossing.
+    let (lo, hi, err) = fa.sampled();
+    if lo < 1.0 - err && hi > 1.0 + err {
+        return Relation::Crossing;
+    }
+    let (amin, amax) = fa.extremes();
     if amax <= 1.0 {
         return Relation::AInsideB;
     }

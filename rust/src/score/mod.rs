@@ -12,6 +12,7 @@
 pub mod glr;
 pub mod monte_carlo;
 pub mod polygon;
+pub mod spec;
 
 use rayon::prelude::*;
 
@@ -21,6 +22,7 @@ use crate::error::{Error, Result};
 pub use glr::Glr;
 pub use monte_carlo::MonteCarlo;
 pub use polygon::Polygon;
+pub use spec::{Options, Score};
 
 /// A geofeasibility score of two ellipses.
 pub trait PairScore: Sync {
@@ -37,6 +39,22 @@ pub trait PairScore: Sync {
     /// Scores one pair of unprepared ellipses.
     fn score_one(&self, a: &Ellipse, b: &Ellipse) -> f64 {
         self.score(&self.prepare(a), &self.prepare(b), 0)
+    }
+    /// Elementwise block: `out[k] = score(a[k], b[k])` for pairs `start + k`, where a side of
+    /// length 1 broadcasts. Scores with a vectorised kernel override this.
+    fn score_block(&self, a: &[Ellipse], b: &[Ellipse], start: usize, out: &mut [f64]) {
+        let (ia, ib) = (a.len() > 1, b.len() > 1);
+        for (k, slot) in out.iter_mut().enumerate() {
+            let ea = &a[if ia { k } else { 0 }];
+            let eb = &b[if ib { k } else { 0 }];
+            *slot = self.score(&self.prepare(ea), &self.prepare(eb), (start + k) as u64);
+        }
+    }
+    /// One row segment of an all-pairs batch: `out[k] = score(a, b[k])` for pairs `start + k`.
+    fn score_row(&self, a: &Self::Prepared, b: &[Self::Prepared], start: usize, out: &mut [f64]) {
+        for (k, (slot, pb)) in out.iter_mut().zip(b).enumerate() {
+            *slot = self.score(a, pb, (start + k) as u64);
+        }
     }
 }
 
@@ -77,10 +95,11 @@ pub fn score_pairs<S: PairScore>(
     validate(a)?;
     validate(b)?;
     let (ia, ib) = (a.len() > 1, b.len() > 1);
-    run_chunked(out, score.chunk_pairs(), interrupt, |k, slot| {
-        let ea = &a[if ia { k } else { 0 }];
-        let eb = &b[if ib { k } else { 0 }];
-        *slot = score.score(&score.prepare(ea), &score.prepare(eb), k as u64);
+    run_chunked(out, score.chunk_pairs(), interrupt, |start, block| {
+        let end = start + block.len();
+        let sa = if ia { &a[start..end] } else { a };
+        let sb = if ib { &b[start..end] } else { b };
+        score.score_block(sa, sb, start, block);
     })
 }
 
@@ -101,8 +120,18 @@ pub fn score_cdist<S: PairScore>(
     }
     let pa: Vec<S::Prepared> = a.par_iter().map(|e| score.prepare(e)).collect();
     let pb: Vec<S::Prepared> = b.par_iter().map(|e| score.prepare(e)).collect();
-    run_chunked(out, score.chunk_pairs(), interrupt, |k, slot| {
-        *slot = score.score(&pa[k / m], &pb[k % m], k as u64);
+    run_chunked(out, score.chunk_pairs(), interrupt, |start, block| {
+        // split the block at row boundaries
+        let mut k = start;
+        let mut rest = block;
+        while !rest.is_empty() {
+            let (i, j) = (k / m, k % m);
+            let len = (m - j).min(rest.len());
+            let (row, tail) = rest.split_at_mut(len);
+            score.score_row(&pa[i], &pb[j..j + len], k, row);
+            k += len;
+            rest = tail;
+        }
     })
 }
 
@@ -131,11 +160,11 @@ fn check_out(got: usize, want: usize) -> Result<()> {
     Ok(())
 }
 
-/// Fills `out` with `body(k, &mut out[k])` in parallel, chunk by chunk, calling `interrupt`
-/// between chunks.
+/// Fills `out` in parallel, chunk by chunk, calling `interrupt` between chunks; `body(start,
+/// block)` fills the sub-slice of `out` that begins at pair `start`.
 fn run_chunked<F>(out: &mut [f64], chunk: usize, interrupt: Interrupt<'_>, body: F) -> Result<()>
 where
-    F: Fn(usize, &mut f64) + Sync,
+    F: Fn(usize, &mut [f64]) + Sync,
 {
     let chunk = chunk.max(1);
     let grain = (chunk / (4 * rayon::current_num_threads())).max(64);
@@ -147,12 +176,7 @@ where
         block
             .par_chunks_mut(grain)
             .enumerate()
-            .for_each(|(g, part)| {
-                let start = base + g * grain;
-                for (o, slot) in part.iter_mut().enumerate() {
-                    body(start + o, slot);
-                }
-            });
+            .for_each(|(g, part)| body(base + g * grain, part));
     }
     Ok(())
 }

@@ -37,17 +37,17 @@ use crate::ellipse::Ellipse;
 use crate::relation::{relation, Relation};
 
 /// Polygon-overlap options.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Polygon {
     /// Vertices of each polygon (at least 8).
     pub vertices: usize,
+    /// `k_n (cos t_i, -sin t_i)`: the equal-area unit polygon, built once.
+    unit: Vec<[f64; 2]>,
 }
 
 impl Default for Polygon {
     fn default() -> Self {
-        Self {
-            vertices: Self::DEFAULT_VERTICES,
-        }
+        Self::new(Self::DEFAULT_VERTICES)
     }
 }
 
@@ -56,6 +56,20 @@ impl Polygon {
     pub const DEFAULT_VERTICES: usize = 256;
     /// Smallest resolution accepted.
     pub const MIN_VERTICES: usize = 8;
+
+    /// Options for `vertices` vertices (at least [`Polygon::MIN_VERTICES`]).
+    pub fn new(vertices: usize) -> Self {
+        let n = vertices.max(Self::MIN_VERTICES);
+        let step = std::f64::consts::TAU / n as f64;
+        let k = (std::f64::consts::TAU / (n as f64 * step.sin())).sqrt();
+        let unit = (0..n)
+            .map(|i| {
+                let (s, c) = (i as f64 * step).sin_cos();
+                [k * c, -k * s]
+            })
+            .collect();
+        Self { vertices: n, unit }
+    }
 
     /// The documented worst-case bound on `|g - g_true|` for an area ratio
     /// `A_max / A_min = ratio`.
@@ -66,17 +80,13 @@ impl Polygon {
 
     /// Counter-clockwise vertices of the equal-area polygon of `e`, relative to its centre.
     pub fn vertices_of(&self, e: &Ellipse) -> Vec<[f64; 2]> {
-        let n = self.vertices.max(Self::MIN_VERTICES);
-        let step = std::f64::consts::TAU / n as f64;
-        let k = (std::f64::consts::TAU / (n as f64 * step.sin())).sqrt();
+        // Clockwise in the (e1, e2) frame, which is left-handed: counter-clockwise in (x, y).
         let ([e1x, e1y], [e2x, e2y]) = e.axes();
-        (0..n)
-            .map(|i| {
-                // Clockwise in the (e1, e2) frame, which is left-handed: counter-clockwise in (x, y).
-                let (s, c) = (i as f64 * step).sin_cos();
-                let (u, v) = (k * e.rx * c, -k * e.ry * s);
-                [u * e1x + v * e2x, u * e1y + v * e2y]
-            })
+        let (ax, ay) = (e.rx * e1x, e.rx * e1y);
+        let (bx, by) = (e.ry * e2x, e.ry * e2y);
+        self.unit
+            .iter()
+            .map(|&[u, v]| [u * ax + v * bx, u * ay + v * by])
             .collect()
     }
 }
@@ -153,7 +163,7 @@ mod tests {
     fn polygon_area_equals_ellipse_area() {
         let e = Ellipse::new(0.0, 0.0, 3.0, 1.5, 0.4);
         for n in [8, 64, 255] {
-            let p = Polygon { vertices: n };
+            let p = Polygon::new(n);
             let v: Vec<Vector> = p
                 .vertices_of(&e)
                 .iter()

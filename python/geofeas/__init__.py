@@ -1,0 +1,29 @@
+"""geofeas: geofeasibility scores for track-to-track association.
+
+Scores of how feasible it is, geographically, that two reports with 2-sigma area-of-uncertainty
+ellipses come from one object (Coates et al., "Recognized Maritime Picture: Geofeasibility
+Scores"), computed in a Rust core.
+"""
+
+from ._core import GeofeasError, __version__
+from .scores import (
+    DEFAULT_VERTICES,
+    cdist,
+    from_gaussian,
+    glr,
+    monte_carlo,
+    overlap,
+    to_gaussian,
+)
+
+__all__ = [
+    "DEFAULT_VERTICES",
+    "GeofeasError",
+    "__version__",
+    "cdist",
+    "from_gaussian",
+    "glr",
+    "monte_carlo",
+    "overlap",
+    "to_gaussian",
+]

@@ -1,0 +1,228 @@
+"""Geofeasibility scores of pairs of 2-sigma AOU ellipses (seed 000).
+
+Every ellipse is a row ``(x0, y0, rx, ry, phi)``: centre (x east, y north), 2-sigma semi-axes and
+the bearing of the ``rx`` axis in radians clockwise from north. Every score accepts a single
+ellipse ``(5,)`` or an array ``(n, 5)`` on either side: two arrays are scored elementwise (a single
+ellipse broadcasts against an array), and two single ellipses give a ``float``. :func:`cdist`
+scores all pairs between two sets. The work runs in Rust with the GIL released and can be
+interrupted with Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import os
+import secrets
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import _core
+from ._arrays import as_ellipses, as_float_array
+from ._core import GeofeasError
+
+__all__ = [
+    "DEFAULT_VERTICES",
+    "cdist",
+    "from_gaussian",
+    "glr",
+    "monte_carlo",
+    "overlap",
+    "to_gaussian",
+]
+
+#: Default polygon resolution of :func:`overlap` (``|g - g_true| <= 1e-4`` on typical pairs).
+DEFAULT_VERTICES = 256
+
+ScoreName = Literal["glr", "overlap", "monte_carlo"]
+_OPTIONS: dict[str, frozenset[str]] = {
+    "glr": frozenset({"threshold"}),
+    "overlap": frozenset({"vertices", "method"}),
+    "monte_carlo": frozenset({"samples", "seed"}),
+}
+
+
+def _seed(seed: int | None) -> int:
+    if seed is None:
+        return secrets.randbits(64)
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)):
+        raise GeofeasError(f"seed must be an integer or None, got {seed!r}")
+    if not 0 <= int(seed) < 2**64:
+        raise GeofeasError(f"seed must be in [0, 2**64), got {seed}")
+    return int(seed)
+
+
+def _count(value: Any, name: str, minimum: int) -> int:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise GeofeasError(f"{name} must be an integer, got {value!r}")
+    if int(value) < minimum:
+        raise GeofeasError(f"{name} must be >= {minimum}, got {value}")
+    return int(value)
+
+
+def _options(score: str, options: dict[str, Any]) -> dict[str, Any]:
+    if score not in _OPTIONS:
+        raise GeofeasError(f"unknown score {score!r}; expected one of {sorted(_OPTIONS)}")
+    unknown = set(options) - _OPTIONS[score]
+    if unknown:
+        raise GeofeasError(
+            f"option(s) {sorted(unknown)} do not apply to score {score!r}; "
+            f"it takes {sorted(_OPTIONS[score])}"
+        )
+    out: dict[str, Any] = {}
+    if "threshold" in options:
+        out["threshold"] = bool(options["threshold"])
+    if "vertices" in options:
+        out["vertices"] = _count(options["vertices"], "vertices", 8)
+    if "method" in options:
+        out["method"] = str(options["method"])
+    if "samples" in options:
+        out["samples"] = _count(options["samples"], "samples", 1)
+    if score == "monte_carlo":
+        out["seed"] = _seed(options.get("seed"))
+    return out
+
+
+def _pairs(a: ArrayLike, b: ArrayLike, score: str, options: dict[str, Any]) -> Any:
+    ea, single_a = as_ellipses(a, "a")
+    eb, single_b = as_ellipses(b, "b")
+    out = _core.score_pairs(ea, eb, score, **_options(score, options))
+    if single_a and single_b:
+        return float(out[0])
+    return out
+
+
+def glr(a: ArrayLike, b: ArrayLike, /, *, threshold: bool = False) -> Any:
+    """Generalized likelihood ratio ``exp(-0.5 d^T (R1 + R2)^-1 d)`` (seed 000, eq. 71).
+
+    Parameters
+    ----------
+    a, b : array_like, shape (5,) or (n, 5)
+        Ellipses ``(x0, y0, rx, ry, phi)``.
+    threshold : bool
+        Return exactly 0 when the ellipses do not touch and exactly 1 when one lies inside the
+        other (constraints 46-48 of the paper); the GLR in between.
+
+    Returns
+    -------
+    float or ndarray of shape (n,)
+    """
+    return _pairs(a, b, "glr", {"threshold": threshold})
+
+
+def overlap(
+    a: ArrayLike, b: ArrayLike, /, *, vertices: int = DEFAULT_VERTICES, method: str = "polygon"
+) -> Any:
+    """Normalised overlap area ``area(A ∩ B) / area(smaller)`` (seed 000, eqs. 49-50).
+
+    Computed exactly on equal-area polygons of ``vertices`` vertices with parry's convex clipper;
+    the error is at most ``26 (1 + A_max / A_min) / vertices**3`` and far smaller on typical pairs.
+    Disjoint pairs give exactly 0, nested and identical pairs exactly 1.
+
+    Parameters
+    ----------
+    a, b : array_like, shape (5,) or (n, 5)
+    vertices : int
+        Polygon resolution (>= 8).
+    method : str
+        ``"polygon"``.
+
+    Returns
+    -------
+    float or ndarray of shape (n,)
+    """
+    return _pairs(a, b, "overlap", {"vertices": vertices, "method": method})
+
+
+def monte_carlo(
+    a: ArrayLike, b: ArrayLike, /, *, samples: int = 500, seed: int | None = None
+) -> Any:
+    """Importance-sampling estimate of the normalised overlap area (seed 000, eq. 55).
+
+    Samples come from the Gaussian of the smaller ellipse with weights ``1/p``. Pair ``k`` of a
+    call draws from its own stream derived from ``(seed, k)``, so a seed gives bit-identical
+    results whatever the number of threads. ``seed=None`` draws a fresh random seed.
+
+    Returns
+    -------
+    float or ndarray of shape (n,)
+    """
+    return _pairs(a, b, "monte_carlo", {"samples": samples, "seed": seed})
+
+
+def _memory_limit() -> int:
+    """Half the physical memory: the largest ``cdist`` output accepted."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE") // 2
+    except (ValueError, OSError, AttributeError):
+        return 8 << 30
+
+
+def cdist(
+    a: ArrayLike,
+    b: ArrayLike,
+    /,
+    *,
+    score: ScoreName = "glr",
+    max_bytes: int | None = None,
+    **options: Any,
+) -> NDArray[np.float64]:
+    """Scores of all pairs between two sets, like ``scipy.spatial.distance.cdist``.
+
+    Parameters
+    ----------
+    a : array_like, shape (n, 5) or (5,)
+    b : array_like, shape (m, 5) or (5,)
+    score : {"glr", "overlap", "monte_carlo"}
+    max_bytes : int, optional
+        Refuse outputs larger than this (default: half the physical memory), before allocating.
+    **options
+        The options of the chosen score (``threshold``; ``vertices``; ``samples``, ``seed``).
+        Pair ``(i, j)`` of ``monte_carlo`` uses stream ``i * m + j``.
+
+    Returns
+    -------
+    ndarray of shape (n, m)
+    """
+    ea, _ = as_ellipses(a, "a")
+    eb, _ = as_ellipses(b, "b")
+    limit = _memory_limit() if max_bytes is None else _count(max_bytes, "max_bytes", 0)
+    result: NDArray[np.float64] = _core.score_cdist(
+        ea, eb, score, max_bytes=limit, **_options(score, options)
+    )
+    return result
+
+
+def to_gaussian(e: ArrayLike, /) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Means ``(n, 2)`` and covariances ``(n, 2, 2)`` of ellipses (eqs. 56-59).
+
+    A single ellipse ``(5,)`` gives a mean ``(2,)`` and a covariance ``(2, 2)``.
+    """
+    arr, single = as_ellipses(e, "e")
+    mean, cov = _core.to_gaussian(arr)
+    if single:
+        return mean[0], cov[0]
+    return mean, cov
+
+
+def from_gaussian(mean: ArrayLike, cov: ArrayLike, /) -> NDArray[np.float64]:
+    """The 2-sigma ellipses ``(n, 5)`` of Gaussians; the inverse of :func:`to_gaussian`.
+
+    Uses a closed-form symmetric 2x2 eigen-decomposition; ``phi`` is returned in ``[0, pi)``
+    and ``rx >= ry``. Covariances must be symmetric positive definite. A single mean ``(2,)`` and
+    covariance ``(2, 2)`` give one ellipse ``(5,)``.
+    """
+    m = as_float_array(mean, "mean")
+    c = as_float_array(cov, "cov")
+    single = m.ndim == 1 and c.ndim == 2
+    if single:
+        m, c = m.reshape(1, -1), c.reshape(1, *c.shape)
+    if m.ndim != 2 or m.shape[1] != 2 or c.ndim != 3 or c.shape[1:] != (2, 2):
+        raise GeofeasError(
+            f"mean, cov: expected shapes (n, 2) and (n, 2, 2), got {np.shape(mean)} and "
+            f"{np.shape(cov)}"
+        )
+    if m.shape[0] != c.shape[0]:
+        raise GeofeasError(f"mean has {m.shape[0]} rows but cov has {c.shape[0]}")
+    out: NDArray[np.float64] = _core.from_gaussian(m, c)
+    return out[0] if single else out

@@ -1,0 +1,46 @@
+//! PyO3 bindings: the `geofeas._core` extension module. Thin: arrays in as views, the work done by
+//! the core with the GIL released, arrays out without copies, core errors mapped to exceptions.
+
+use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
+use pyo3::prelude::*;
+
+mod scores;
+
+pyo3::create_exception!(
+    geofeas,
+    GeofeasError,
+    PyValueError,
+    "Invalid input or options for a geofeas computation (a ValueError)."
+);
+
+impl From<crate::Error> for PyErr {
+    fn from(err: crate::Error) -> PyErr {
+        match err {
+            crate::Error::Interrupted => PyKeyboardInterrupt::new_err("interrupted"),
+            other => GeofeasError::new_err(other.to_string()),
+        }
+    }
+}
+
+/// The interrupt hook handed to the core's drivers: between chunks, briefly re-take the GIL and
+/// let Python handle pending signals (Ctrl-C). Must run on the thread that called into Rust.
+pub(crate) fn check_signals() -> bool {
+    Python::attach(|py| py.check_signals().is_err())
+}
+
+/// Runs `f` with the GIL released, converting a core error into a Python exception.
+pub(crate) fn detached<T, F>(py: Python<'_>, f: F) -> PyResult<T>
+where
+    T: Send,
+    F: Send + FnOnce() -> crate::Result<T>,
+{
+    py.detach(f).map_err(PyErr::from)
+}
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("GeofeasError", m.py().get_type::<GeofeasError>())?;
+    scores::register(m)?;
+    Ok(())
+}

@@ -1,0 +1,198 @@
+//! Bindings of the scores (`crate::score`) and the ellipse <-> Gaussian conversions.
+
+use numpy::{
+    IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3,
+    PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+
+use super::{check_signals, detached};
+use crate::ellipse::{Ellipse, Gaussian};
+use crate::error::Error;
+use crate::score::{broadcast_len, check_cdist_size, Options, Score};
+
+fn ellipses<'a>(what: &'static str, arr: &'a PyReadonlyArray2<'_, f64>) -> PyResult<&'a [Ellipse]> {
+    let shape = arr.shape();
+    if shape[1] != 5 {
+        return Err(Error::Shape {
+            what,
+            expected: "(n, 5)".into(),
+            got: format!("{shape:?}"),
+        }
+        .into());
+    }
+    let flat = arr
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("{what}: {e}")))?;
+    Ok(Ellipse::from_flat(flat)?)
+}
+
+fn options(threshold: bool, method: String, vertices: usize, samples: usize, seed: u64) -> Options {
+    Options {
+        threshold,
+        method,
+        vertices,
+        samples,
+        seed,
+    }
+}
+
+/// Elementwise scores of `a[k]` and `b[k]` (a length-1 side broadcasts).
+#[pyfunction]
+#[pyo3(signature = (a, b, score, *, threshold=false, method="polygon", vertices=256, samples=500, seed=0))]
+#[allow(clippy::too_many_arguments)]
+fn score_pairs<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArray2<'py, f64>,
+    b: PyReadonlyArray2<'py, f64>,
+    score: &str,
+    threshold: bool,
+    method: &str,
+    vertices: usize,
+    samples: usize,
+    seed: u64,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let spec = Score::from_name(
+        score,
+        &options(threshold, method.to_string(), vertices, samples, seed),
+    )?;
+    let (ea, eb) = (ellipses("a", &a)?, ellipses("b", &b)?);
+    let n = broadcast_len(ea.len(), eb.len())?;
+    let out = detached(py, || {
+        let mut out = vec![0.0; n];
+        spec.pairs(ea, eb, &mut out, &mut check_signals)?;
+        Ok(out)
+    })?;
+    Ok(out.into_pyarray(py))
+}
+
+/// All-pairs scores, `(n, 5) x (m, 5) -> (n, m)`, refused above `max_bytes` of output.
+#[pyfunction]
+#[pyo3(signature = (a, b, score, *, max_bytes, threshold=false, method="polygon", vertices=256, samples=500, seed=0))]
+#[allow(clippy::too_many_arguments)]
+fn score_cdist<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArray2<'py, f64>,
+    b: PyReadonlyArray2<'py, f64>,
+    score: &str,
+    max_bytes: u128,
+    threshold: bool,
+    method: &str,
+    vertices: usize,
+    samples: usize,
+    seed: u64,
+) -> PyResult<Bound<'py, PyAny>> {
+    let spec = Score::from_name(
+        score,
+        &options(threshold, method.to_string(), vertices, samples, seed),
+    )?;
+    let (ea, eb) = (ellipses("a", &a)?, ellipses("b", &b)?);
+    let (n, m) = (ea.len(), eb.len());
+    check_cdist_size(n, m, max_bytes)?;
+    let out = detached(py, || {
+        let mut out = vec![0.0; n * m];
+        spec.cdist(ea, eb, &mut out, &mut check_signals)?;
+        Ok(out)
+    })?;
+    Ok(out.into_pyarray(py).reshape([n, m])?.into_any())
+}
+
+/// `(n, 5)` ellipses -> `(n, 2)` means and `(n, 2, 2)` covariances (eqs. 56-59).
+#[pyfunction]
+fn to_gaussian<'py>(
+    py: Python<'py>,
+    e: PyReadonlyArray2<'py, f64>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    let ee = ellipses("e", &e)?;
+    let n = ee.len();
+    let (mean, cov) = detached(py, || {
+        let mut mean = Vec::with_capacity(2 * n);
+        let mut cov = Vec::with_capacity(4 * n);
+        for (row, e) in ee.iter().enumerate() {
+            let g = e.validated(row)?.to_gaussian();
+            mean.extend_from_slice(&g.mean);
+            cov.extend_from_slice(&[g.cov[0], g.cov[1], g.cov[1], g.cov[2]]);
+        }
+        Ok((mean, cov))
+    })?;
+    Ok((
+        mean.into_pyarray(py).reshape([n, 2])?.into_any(),
+        cov.into_pyarray(py).reshape([n, 2, 2])?.into_any(),
+    ))
+}
+
+/// `(n, 2)` means and `(n, 2, 2)` covariances -> `(n, 5)` ellipses.
+#[pyfunction]
+fn from_gaussian<'py>(
+    py: Python<'py>,
+    mean: PyReadonlyArray2<'py, f64>,
+    cov: PyReadonlyArray3<'py, f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let (ms, cs) = (mean.shape(), cov.shape());
+    if ms[1] != 2 || cs[1] != 2 || cs[2] != 2 || ms[0] != cs[0] {
+        return Err(Error::Shape {
+            what: "mean, cov",
+            expected: "(n, 2) and (n, 2, 2)".into(),
+            got: format!("{ms:?} and {cs:?}"),
+        }
+        .into());
+    }
+    let m = mean
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("mean: {e}")))?;
+    let c = cov
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("cov: {e}")))?;
+    let n = ms[0];
+    let out = detached(py, || {
+        let mut out = Vec::with_capacity(5 * n);
+        for row in 0..n {
+            let cc = &c[4 * row..4 * row + 4];
+            let scale = cc[1]
+                .abs()
+                .max(cc[2].abs())
+                .max(cc[0].abs())
+                .max(cc[3].abs());
+            if (cc[1] - cc[2]).abs() > 1e-12 * scale {
+                return Err(Error::NotPositiveDefinite {
+                    row,
+                    reason: format!(
+                        "not symmetric: cov[0, 1] = {} != cov[1, 0] = {}",
+                        cc[1], cc[2]
+                    ),
+                });
+            }
+            let g = Gaussian::new(
+                [m[2 * row], m[2 * row + 1]],
+                [cc[0], 0.5 * (cc[1] + cc[2]), cc[3]],
+            )
+            .validated(row)?;
+            out.extend_from_slice(&g.to_ellipse().to_row());
+        }
+        Ok(out)
+    })?;
+    Ok(out.into_pyarray(py).reshape([n, 5])?.into_any())
+}
+
+/// Validates `(n, 5)` ellipses, raising on the first bad row.
+#[pyfunction]
+fn validate_ellipses(py: Python<'_>, e: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
+    let ee = ellipses("e", &e)?;
+    detached(py, || crate::score::validate(ee))
+}
+
+/// The documented polygon-overlap error bound for `vertices` and area ratio `A_max / A_min`.
+#[pyfunction]
+fn polygon_error_bound(vertices: usize, ratio: f64) -> f64 {
+    crate::score::Polygon::new(vertices).error_bound(ratio)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(score_pairs, m)?)?;
+    m.add_function(wrap_pyfunction!(score_cdist, m)?)?;
+    m.add_function(wrap_pyfunction!(to_gaussian, m)?)?;
+    m.add_function(wrap_pyfunction!(from_gaussian, m)?)?;
+    m.add_function(wrap_pyfunction!(validate_ellipses, m)?)?;
+    m.add_function(wrap_pyfunction!(polygon_error_bound, m)?)?;
+    Ok(())
+}
