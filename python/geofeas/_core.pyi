@@ -1,5 +1,7 @@
 """Typed stub of the Rust extension module ``geofeas._core``."""
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -7,6 +9,10 @@ __all__ = [
     "GeofeasError",
     "__version__",
     "from_gaussian",
+    "mht_simulate_run",
+    "mht_study",
+    "mht_track",
+    "mht_trilaterate",
     "polygon_error_bound",
     "score_cdist",
     "score_pairs",
@@ -48,3 +54,45 @@ def to_gaussian(
 def from_gaussian(mean: NDArray[np.float64], cov: NDArray[np.float64]) -> NDArray[np.float64]: ...
 def validate_ellipses(e: NDArray[np.float64]) -> None: ...
 def polygon_error_bound(vertices: int, ratio: float) -> float: ...
+def mht_trilaterate(
+    pos_a: NDArray[np.float64],
+    z_a: NDArray[np.float64],
+    cov_a: NDArray[np.float64],
+    pos_b: NDArray[np.float64],
+    z_b: NDArray[np.float64],
+    cov_b: NDArray[np.float64],
+    *,
+    boresight: float = ...,
+    half_beam: float = ...,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+def mht_track(
+    detections: NDArray[np.float64],
+    sensors: NDArray[np.float64],
+    *,
+    max_hypotheses: int = 50,
+    pd: float = 0.9,
+    false_alarm_density: float = ...,
+    new_target_density: float = ...,
+    accel_sigma: float = ...,
+    sigma_range: float = 0.05,
+    sigma_range_rate: float = 0.02,
+    gate: float = 16.0,
+    max_coast: float = 1.0,
+    max_speed: float = 15.0,
+    ekf_iterations: int = 2,
+    single: bool = False,
+) -> dict[str, Any]: ...
+def mht_simulate_run(
+    *,
+    targets: int = 2,
+    sensors: int = 3,
+    false_alarms: int = 2,
+    tracker: str = "mht",
+    run: int = 0,
+    seed: int = 0,
+    max_hypotheses: int = 50,
+    ekf_iterations: int = 2,
+) -> dict[str, Any]: ...
+def mht_study(
+    *, runs: int = 20, seed: int = 0, max_hypotheses: int = 50, ekf_iterations: int = 2
+) -> dict[str, Any]: ...

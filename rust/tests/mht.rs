@@ -445,7 +445,7 @@ fn with_no_false_alarms_the_true_tracks_are_found() {
     let opts = StudyOptions {
         runs: 1,
         seed: 11,
-        max_hypotheses: 50,
+        ..StudyOptions::default()
     };
     for targets in [1, 2] {
         for run in 0..3 {
@@ -542,6 +542,7 @@ fn study_is_reproducible_whatever_the_thread_count() {
         runs: 3,
         seed: 5,
         max_hypotheses: 20,
+        ..StudyOptions::default()
     };
     let one = rayon::ThreadPoolBuilder::new()
         .num_threads(1)

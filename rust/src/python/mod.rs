@@ -4,6 +4,7 @@
 use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 
+mod mht;
 mod scores;
 
 pyo3::create_exception!(
@@ -42,5 +43,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("GeofeasError", m.py().get_type::<GeofeasError>())?;
     scores::register(m)?;
+    mht::register(m)?;
     Ok(())
 }

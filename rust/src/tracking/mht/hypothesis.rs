@@ -461,3 +461,32 @@ impl Mht {
         }
     }
 }
+
+/// Groups time-ordered detections into scans: consecutive detections with the same time and
+/// sensor form one scan. Sets each detection's `scan` and returns the scans `(time, sensor)`.
+/// Errors name the first detection out of time order or with a non-finite time.
+pub fn group_scans(detections: &mut [Detection]) -> Result<Vec<(f64, usize)>> {
+    let mut scans: Vec<(f64, usize)> = Vec::new();
+    for (row, d) in detections.iter_mut().enumerate() {
+        if !d.time.is_finite() {
+            return Err(Error::NonFinite {
+                what: "detection",
+                row,
+                field: "time",
+                value: d.time,
+            });
+        }
+        match scans.last() {
+            Some(&(t, s)) if t == d.time && s == d.sensor => {}
+            Some(&(t, _)) if d.time < t => {
+                return Err(Error::Invalid(format!(
+                    "detection row {row}: time {} is before the previous detection at {t}; sort detections by time",
+                    d.time
+                )))
+            }
+            _ => scans.push((d.time, d.sensor)),
+        }
+        d.scan = scans.len() - 1;
+    }
+    Ok(scans)
+}

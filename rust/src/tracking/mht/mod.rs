@@ -29,11 +29,14 @@ pub mod trilateration;
 
 use nalgebra::{Matrix2, Vector2};
 
-pub use hypothesis::{Hypothesis, Mht, MhtConfig};
+pub use hypothesis::{group_scans, Hypothesis, Mht, MhtConfig};
 pub use metrics::{Evaluation, Metrics, Tally};
 pub use scenario::{Scenario, Trajectory};
 pub use sensor::{Detection, Noise, Sensor};
-pub use study::{paper_cells, run_one, run_one_with, study, Cell, StudyOptions, TrackerKind};
+pub use study::{
+    paper_cells, run_one, run_one_with, study, study_with_interrupt, Cell, StudyOptions,
+    TrackerKind,
+};
 pub use track::Track;
 pub use trilateration::{trilaterate, trilaterate_gaussian, Trilateration};
 

@@ -57,6 +57,8 @@ pub struct StudyOptions {
     pub seed: u64,
     /// Hypotheses kept by the MHT (paper: 50).
     pub max_hypotheses: usize,
+    /// Relinearisations of the Cartesian EKF update (0: the paper's plain EKF).
+    pub ekf_iterations: usize,
 }
 
 impl Default for StudyOptions {
@@ -65,6 +67,7 @@ impl Default for StudyOptions {
             runs: 20,
             seed: 0,
             max_hypotheses: 50,
+            ekf_iterations: 2,
         }
     }
 }
@@ -109,6 +112,7 @@ pub fn paper_cells() -> Vec<Cell> {
 pub fn tracker_config(cell: &Cell, scenario: &Scenario, opts: &StudyOptions) -> MhtConfig {
     let base = MhtConfig {
         max_hypotheses: opts.max_hypotheses,
+        ekf_iterations: opts.ekf_iterations,
         ..MhtConfig::for_scenario(scenario)
     };
     match cell.tracker {
@@ -169,22 +173,45 @@ pub fn run_one_with<F: Fn(MhtConfig) -> MhtConfig>(
 /// Runs `opts.runs` Monte-Carlo runs of every cell in parallel and returns the pooled metrics,
 /// in the order of `cells`.
 pub fn study(cells: &[Cell], opts: &StudyOptions) -> Result<Vec<(Cell, Metrics)>> {
+    study_with_interrupt(cells, opts, &mut || false)
+}
+
+/// [`study`] calling `interrupt` on the calling thread between batches of runs; if it returns
+/// true the study stops with [`Error::Interrupted`].
+pub fn study_with_interrupt(
+    cells: &[Cell],
+    opts: &StudyOptions,
+    interrupt: &mut dyn FnMut() -> bool,
+) -> Result<Vec<(Cell, Metrics)>> {
     if opts.runs == 0 {
         return Err(Error::InvalidOption {
             name: "runs",
             reason: "must be >= 1".into(),
         });
     }
+    if opts.max_hypotheses == 0 {
+        return Err(Error::InvalidOption {
+            name: "max_hypotheses",
+            reason: "must be >= 1".into(),
+        });
+    }
     let jobs: Vec<(usize, usize)> = (0..cells.len())
         .flat_map(|c| (0..opts.runs).map(move |r| (c, r)))
         .collect();
-    let tallies: Vec<Tally> = jobs
-        .par_iter()
-        .map(|&(c, r)| run_one(&cells[c], opts, r).map(|o| o.tally))
-        .collect::<Result<_>>()?;
+    let batch = 8 * rayon::current_num_threads();
     let mut pooled = vec![Tally::default(); cells.len()];
-    for (&(c, _), t) in jobs.iter().zip(&tallies) {
-        pooled[c].merge(t);
+    for chunk in jobs.chunks(batch) {
+        if interrupt() {
+            return Err(Error::Interrupted);
+        }
+        let tallies: Vec<Tally> = chunk
+            .par_iter()
+            .map(|&(c, r)| run_one(&cells[c], opts, r).map(|o| o.tally))
+            .collect::<Result<_>>()?;
+        // Merged in job order, so the sums do not depend on the thread count.
+        for (&(c, _), t) in chunk.iter().zip(&tallies) {
+            pooled[c].merge(t);
+        }
     }
     Ok(cells
         .iter()

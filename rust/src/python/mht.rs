@@ -1,0 +1,388 @@
+//! Bindings of the multiple-hypothesis trilateration tracker (`crate::tracking::mht`).
+
+use std::collections::HashMap;
+
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use super::{check_signals, detached};
+use crate::error::Error;
+use crate::tracking::mht::{
+    group_scans, paper_cells, run_one, study_with_interrupt, trilaterate_gaussian, Cell, Detection,
+    Hypothesis, Mht, MhtConfig, Noise, Sensor, StudyOptions, TrackerKind,
+};
+
+fn matrix<'a>(
+    what: &'static str,
+    arr: &'a PyReadonlyArray2<'_, f64>,
+    cols: usize,
+) -> PyResult<&'a [f64]> {
+    let shape = arr.shape();
+    if shape[1] != cols {
+        return Err(Error::Shape {
+            what,
+            expected: format!("(n, {cols})"),
+            got: format!("{shape:?}"),
+        }
+        .into());
+    }
+    Ok(arr
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("{what}: {e}")))?)
+}
+
+fn fixed<const N: usize>(
+    what: &'static str,
+    arr: &PyReadonlyArray1<'_, f64>,
+) -> PyResult<[f64; N]> {
+    let s = arr
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("{what}: {e}")))?;
+    <[f64; N]>::try_from(s).map_err(|_| {
+        Error::Shape {
+            what,
+            expected: format!("({N},)"),
+            got: format!("({},)", s.len()),
+        }
+        .into()
+    })
+}
+
+fn tracker_kind(name: &str) -> PyResult<TrackerKind> {
+    match name {
+        "mht" => Ok(TrackerKind::Mht),
+        "single" => Ok(TrackerKind::Single),
+        other => Err(Error::InvalidOption {
+            name: "tracker",
+            reason: format!("expected 'mht' or 'single', got '{other}'"),
+        }
+        .into()),
+    }
+}
+
+/// Sensors from rows `[x, y, boresight, half_beam, max_range, max_range_rate]`.
+fn sensors_from(flat: &[f64]) -> crate::Result<Vec<Sensor>> {
+    flat.chunks_exact(6)
+        .enumerate()
+        .map(|(i, r)| {
+            Sensor {
+                position: [r[0], r[1]],
+                boresight: r[2],
+                half_beam: r[3],
+                period: 1.0,
+                offset: 0.0,
+                max_range: r[4],
+                max_range_rate: r[5],
+            }
+            .validated(i)
+        })
+        .collect()
+}
+
+/// The tracks of a hypothesis as arrays: Cartesian path rows `[id, time, x, y, vx, vy]`, final
+/// 2-sigma ellipses `[id, x0, y0, rx, ry, phi]` of the open Cartesian tracks, and the track id of
+/// every detection (-1: not in a track).
+fn hypothesis_arrays(best: &Hypothesis, n_detections: usize) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut paths = Vec::new();
+    let mut ellipses = Vec::new();
+    let mut owner = vec![-1.0; n_detections];
+    let mut tracks = best.all_tracks();
+    tracks.sort_by_key(|t| t.id);
+    for t in &tracks {
+        for k in t.detections() {
+            if k < n_detections {
+                owner[k] = t.id as f64;
+            }
+        }
+        for p in t.path() {
+            paths.extend_from_slice(&[t.id as f64, p[0], p[1], p[2], p[3], p[4]]);
+        }
+    }
+    for t in &best.tracks {
+        if let Some(e) = t.ellipse() {
+            ellipses.extend_from_slice(&[t.id as f64, e.x0, e.y0, e.rx, e.ry, e.phi]);
+        }
+    }
+    (paths, ellipses, owner)
+}
+
+fn to_2d<'py>(py: Python<'py>, flat: Vec<f64>, cols: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let rows = flat.len() / cols;
+    flat.into_pyarray(py).reshape([rows, cols])
+}
+
+/// A state vector and its covariance.
+type StateAndCovariance<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>);
+
+/// Trilaterates two detections `(r, r')` of sensors at `pos_a`, `pos_b` (beams of half-width
+/// `half_beam` along `boresight`); returns the state `(x, y, vx, vy)` and its covariance (eq. 8).
+#[pyfunction]
+#[pyo3(signature = (pos_a, z_a, cov_a, pos_b, z_b, cov_b, *, boresight=std::f64::consts::FRAC_PI_2, half_beam=std::f64::consts::FRAC_PI_2))]
+#[allow(clippy::too_many_arguments)]
+fn mht_trilaterate<'py>(
+    py: Python<'py>,
+    pos_a: PyReadonlyArray1<'py, f64>,
+    z_a: PyReadonlyArray1<'py, f64>,
+    cov_a: PyReadonlyArray2<'py, f64>,
+    pos_b: PyReadonlyArray1<'py, f64>,
+    z_b: PyReadonlyArray1<'py, f64>,
+    cov_b: PyReadonlyArray2<'py, f64>,
+    boresight: f64,
+    half_beam: f64,
+) -> PyResult<StateAndCovariance<'py>> {
+    let sensor = |p: [f64; 2], row| {
+        Sensor {
+            position: p,
+            boresight,
+            half_beam,
+            ..Sensor::paper(0.0, 1.0)
+        }
+        .validated(row)
+    };
+    let a = sensor(fixed::<2>("pos_a", &pos_a)?, 0)?;
+    let b = sensor(fixed::<2>("pos_b", &pos_b)?, 1)?;
+    let za = fixed::<2>("z_a", &z_a)?;
+    let zb = fixed::<2>("z_b", &z_b)?;
+    let ca = matrix("cov_a", &cov_a, 2)?;
+    let cb = matrix("cov_b", &cov_b, 2)?;
+    if ca.len() != 4 || cb.len() != 4 {
+        return Err(Error::Shape {
+            what: "cov_a / cov_b",
+            expected: "(2, 2)".into(),
+            got: format!("{:?} / {:?}", cov_a.shape(), cov_b.shape()),
+        }
+        .into());
+    }
+    for (what, v) in [
+        ("z_a", &za[..]),
+        ("z_b", &zb[..]),
+        ("cov_a", ca),
+        ("cov_b", cb),
+    ] {
+        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+            return Err(Error::Invalid(format!("{what}: non-finite value {x}")).into());
+        }
+    }
+    let m = |c: &[f64]| nalgebra::Matrix2::new(c[0], c[1], c[2], c[3]);
+    let (x, p) =
+        trilaterate_gaussian(&a, za.into(), &m(ca), &b, zb.into(), &m(cb)).ok_or_else(|| {
+            Error::Invalid(
+                "no trilateration: the range circles do not intersect in front of both sensors, \
+                 or the lines of sight are parallel"
+                    .into(),
+            )
+        })?;
+    let state = x.as_slice().to_vec().into_pyarray(py);
+    // nalgebra is column-major; the covariance is symmetric, transpose for clarity anyway.
+    let cov = to_2d(py, p.transpose().as_slice().to_vec(), 4)?;
+    Ok((state, cov))
+}
+
+/// Tracks detection rows `[time, sensor, range, range_rate]` (sorted by time) from sensors rows
+/// `[x, y, boresight, half_beam, max_range, max_range_rate]`.
+#[pyfunction]
+#[pyo3(signature = (detections, sensors, *, max_hypotheses=50, pd=0.9, false_alarm_density=1.0/3000.0, new_target_density=0.02/3000.0, accel_sigma=4.0*9.80665, sigma_range=0.05, sigma_range_rate=0.02, gate=16.0, max_coast=1.0, max_speed=15.0, ekf_iterations=2, single=false))]
+#[allow(clippy::too_many_arguments)]
+fn mht_track<'py>(
+    py: Python<'py>,
+    detections: PyReadonlyArray2<'py, f64>,
+    sensors: PyReadonlyArray2<'py, f64>,
+    max_hypotheses: usize,
+    pd: f64,
+    false_alarm_density: f64,
+    new_target_density: f64,
+    accel_sigma: f64,
+    sigma_range: f64,
+    sigma_range_rate: f64,
+    gate: f64,
+    max_coast: f64,
+    max_speed: f64,
+    ekf_iterations: usize,
+    single: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let flat = matrix("detections", &detections, 4)?;
+    let sens = sensors_from(matrix("sensors", &sensors, 6)?)?;
+    let mut dets = Vec::with_capacity(flat.len() / 4);
+    for (row, r) in flat.chunks_exact(4).enumerate() {
+        let s = r[1];
+        if !(s.is_finite() && s >= 0.0 && s.fract() == 0.0 && (s as usize) < sens.len()) {
+            return Err(Error::Invalid(format!(
+                "detection row {row}: sensor {s} is not an index of the {} sensors",
+                sens.len()
+            ))
+            .into());
+        }
+        dets.push(Detection {
+            time: r[0],
+            sensor: s as usize,
+            scan: 0,
+            range: r[2],
+            range_rate: r[3],
+            target: None,
+        });
+    }
+    let mut config = MhtConfig {
+        max_hypotheses,
+        pd,
+        false_alarm_density,
+        new_target_density,
+        accel_sigma,
+        noise: Noise {
+            sigma_range,
+            sigma_range_rate,
+        },
+        gate,
+        max_coast,
+        max_speed,
+        ekf_iterations,
+        ..MhtConfig::default()
+    };
+    if single {
+        config = config.single_hypothesis();
+    }
+    let n = dets.len();
+    let (best, probability) = detached(py, move || {
+        let scans = group_scans(&mut dets)?;
+        let mut mht = Mht::new(sens, config)?;
+        mht.run(&scans, &dets, |_, _, _| {})?;
+        let best = mht.best().clone();
+        Ok((best.clone(), best.probability()))
+    })?;
+    let (paths, ellipses, owner) = hypothesis_arrays(&best, n);
+    let out = PyDict::new(py);
+    out.set_item("tracks", to_2d(py, paths, 6)?)?;
+    out.set_item("ellipses", to_2d(py, ellipses, 6)?)?;
+    out.set_item("track_of_detection", owner.into_pyarray(py))?;
+    out.set_item("probability", probability)?;
+    Ok(out)
+}
+
+/// Simulates and tracks one run of a paper scenario; returns detections, tracks, ellipses, truth
+/// and metrics.
+#[pyfunction]
+#[pyo3(signature = (*, targets=2, sensors=3, false_alarms=2, tracker="mht", run=0, seed=0, max_hypotheses=50, ekf_iterations=2))]
+#[allow(clippy::too_many_arguments)]
+fn mht_simulate_run<'py>(
+    py: Python<'py>,
+    targets: usize,
+    sensors: usize,
+    false_alarms: usize,
+    tracker: &str,
+    run: usize,
+    seed: u64,
+    max_hypotheses: usize,
+    ekf_iterations: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let cell = Cell {
+        targets,
+        sensors,
+        tracker: tracker_kind(tracker)?,
+        false_alarms,
+    };
+    let opts = StudyOptions {
+        runs: 1,
+        seed,
+        max_hypotheses,
+        ekf_iterations,
+    };
+    let o = detached(py, move || run_one(&cell, &opts, run))?;
+    let n = o.detections.len();
+    let (paths, ellipses, owner) = hypothesis_arrays(&o.best, n);
+    let mut det_rows = Vec::with_capacity(n * 6);
+    for (d, own) in o.detections.iter().zip(&owner) {
+        det_rows.extend_from_slice(&[
+            d.time,
+            d.sensor as f64,
+            d.range,
+            d.range_rate,
+            d.target.map_or(-1.0, |t| t as f64),
+            *own,
+        ]);
+    }
+    let mut truth = Vec::new();
+    let steps = (o.scenario.duration / 0.05).round() as usize;
+    for (k, tr) in o.scenario.targets.iter().enumerate() {
+        for i in 0..=steps {
+            let t = i as f64 * 0.05;
+            let s = tr.state(t);
+            truth.extend_from_slice(&[k as f64, t, s[0], s[1], s[2], s[3]]);
+        }
+    }
+    let sens: Vec<f64> = o
+        .scenario
+        .sensors
+        .iter()
+        .flat_map(|s| [s.position[0], s.position[1]])
+        .collect();
+    let m = o.tally.metrics();
+    let metrics = PyDict::new(py);
+    metrics.set_item("t_pd", m.t_pd)?;
+    metrics.set_item("t_far", m.t_far)?;
+    metrics.set_item("pos_err", m.pos_err)?;
+    metrics.set_item("vel_err", m.vel_err)?;
+    let out = PyDict::new(py);
+    out.set_item("detections", to_2d(py, det_rows, 6)?)?;
+    out.set_item("tracks", to_2d(py, paths, 6)?)?;
+    out.set_item("ellipses", to_2d(py, ellipses, 6)?)?;
+    out.set_item("truth", to_2d(py, truth, 6)?)?;
+    out.set_item("sensors", to_2d(py, sens, 2)?)?;
+    out.set_item("metrics", metrics)?;
+    out.set_item("duration", o.scenario.duration)?;
+    Ok(out)
+}
+
+/// The Monte-Carlo study of Tables 1 and 2: one row per cell of the paper's grid.
+#[pyfunction]
+#[pyo3(signature = (*, runs=20, seed=0, max_hypotheses=50, ekf_iterations=2))]
+fn mht_study<'py>(
+    py: Python<'py>,
+    runs: usize,
+    seed: u64,
+    max_hypotheses: usize,
+    ekf_iterations: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let opts = StudyOptions {
+        runs,
+        seed,
+        max_hypotheses,
+        ekf_iterations,
+    };
+    let cells = paper_cells();
+    let rows = detached(py, || {
+        study_with_interrupt(&cells, &opts, &mut check_signals)
+    })?;
+    let mut cols: HashMap<&str, Vec<f64>> = HashMap::new();
+    let mut trackers = Vec::with_capacity(rows.len());
+    for (c, m) in &rows {
+        for (k, v) in [
+            ("targets", c.targets as f64),
+            ("sensors", c.sensors as f64),
+            ("false_alarms", c.false_alarms as f64),
+            ("t_pd", m.t_pd),
+            ("t_far", m.t_far),
+            ("pos_err", m.pos_err),
+            ("vel_err", m.vel_err),
+        ] {
+            cols.entry(k).or_default().push(v);
+        }
+        trackers.push(c.tracker.name());
+    }
+    let out = PyDict::new(py);
+    for (k, v) in cols {
+        out.set_item(k, v.into_pyarray(py))?;
+    }
+    out.set_item("tracker", trackers)?;
+    Ok(out)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(mht_trilaterate, m)?)?;
+    m.add_function(wrap_pyfunction!(mht_track, m)?)?;
+    m.add_function(wrap_pyfunction!(mht_simulate_run, m)?)?;
+    m.add_function(wrap_pyfunction!(mht_study, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,280 @@
+"""Boundary and cross-checks of the MHT trilateration tracker (seed 004).
+
+The NumPy references here are written from the paper's equations (eqs. 1-8 for sensors on the x
+axis), not from the Rust code.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+
+import numpy as np
+import pytest
+
+import geofeas
+from geofeas import GeofeasError
+from geofeas.cli import main
+from geofeas.tracking import (
+    PAPER_TABLE_1,
+    STUDY_COLUMNS,
+    paper_sensors,
+    simulate_run,
+    study,
+    track,
+    track_ellipses,
+    trilaterate,
+)
+
+R = np.diag([0.05**2, 0.02**2])
+
+
+def paper_trilateration(s1: float, s2: float, z: np.ndarray) -> np.ndarray:
+    """Eqs. 4-7 of the paper: ``z = (z1, z2, z1', z2')`` -> ``(x, y, x', y')``; the derivatives of
+    eqs. 6-7 by central differences of eqs. 4-5."""
+
+    def pos(z1: float, z2: float) -> tuple[float, float]:
+        x = (s1**2 - s2**2 - z1**2 + z2**2) / (2 * (s1 - s2))
+        y = math.sqrt(0.5 * (z1**2 + z2**2 - (x - s1) ** 2 - (x - s2) ** 2))
+        return x, y
+
+    z1, z2, d1, d2 = z
+    x, y = pos(z1, z2)
+    h = 1e-6
+    dx1 = (np.array(pos(z1 + h, z2)) - np.array(pos(z1 - h, z2))) / (2 * h)
+    dx2 = (np.array(pos(z1, z2 + h)) - np.array(pos(z1, z2 - h))) / (2 * h)
+    v = dx1 * d1 + dx2 * d2
+    return np.array([x, y, v[0], v[1]])
+
+
+def measure(sensor_x: float, state: np.ndarray) -> np.ndarray:
+    dx, dy = state[0] - sensor_x, state[1]
+    r = math.hypot(dx, dy)
+    return np.array([r, (dx * state[2] + dy * state[3]) / r])
+
+
+def test_trilateration_matches_the_paper_equations(rng: np.random.Generator) -> None:
+    for _ in range(200):
+        s1, s2 = -10.0, 10.0
+        truth = np.array([rng.uniform(-40, 40), rng.uniform(5, 80), *rng.uniform(-10, 10, 2)])
+        za, zb = measure(s1, truth), measure(s2, truth)
+        state, cov = trilaterate([s1, 0], za, R, [s2, 0], zb, R)
+        ref = paper_trilateration(s1, s2, np.array([za[0], zb[0], za[1], zb[1]]))
+        np.testing.assert_allclose(state, ref, rtol=1e-6, atol=1e-6)
+        np.testing.assert_allclose(state, truth, rtol=1e-8, atol=1e-8)
+        assert cov.shape == (4, 4)
+        np.testing.assert_allclose(cov, cov.T, atol=1e-15)
+        assert np.all(np.linalg.eigvalsh(cov) > 0)
+
+
+def test_trilateration_covariance_matches_monte_carlo(rng: np.random.Generator) -> None:
+    s1, s2 = -10.0, 10.0
+    truth = np.array([3.0, 25.0, 5.0, -4.0])
+    za, zb = measure(s1, truth), measure(s2, truth)
+    _, cov = trilaterate([s1, 0], za, R, [s2, 0], zb, R)
+    n = 20_000
+    noise = rng.standard_normal((n, 4)) * np.array([0.05, 0.05, 0.02, 0.02])
+    samples = np.array(
+        [
+            paper_trilateration(
+                s1, s2, np.array([za[0] + e[0], zb[0] + e[1], za[1] + e[2], zb[1] + e[3]])
+            )
+            for e in noise
+        ]
+    )
+    mc = np.cov(samples.T)
+    # Variances to 5% (standard error 1% at n = 20000), correlations to 0.03.
+    np.testing.assert_allclose(np.diag(mc), np.diag(cov), rtol=0.05)
+    corr = lambda c: c / np.sqrt(np.outer(np.diag(c), np.diag(c)))  # noqa: E731
+    np.testing.assert_allclose(corr(mc), corr(cov), atol=0.03)
+
+
+def test_trilateration_rejects_bad_input() -> None:
+    with pytest.raises(GeofeasError, match="do not intersect"):
+        trilaterate([-10, 0], [3, 0], R, [10, 0], [3, 0], R)
+    with pytest.raises(GeofeasError, match="z_a"):
+        trilaterate([-10, 0], [np.nan, 0], R, [10, 0], [20, 0], R)
+    with pytest.raises(GeofeasError, match="cov_b"):
+        trilaterate([-10, 0], [20, 0], R, [10, 0], [20, 0], np.eye(3))
+    with pytest.raises(GeofeasError, match="pos_a"):
+        trilaterate([-10, 0, 1], [20, 0], R, [10, 0], [20, 0], R)
+    with pytest.raises(ValueError):
+        trilaterate([-10, 0], ["a", 0], R, [10, 0], [20, 0], R)
+
+
+def simulate_line(
+    rng: np.random.Generator,
+    sensors: np.ndarray,
+    periods: list[float],
+    start: np.ndarray,
+    velocity: np.ndarray,
+    duration: float,
+    false_alarms: int = 0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """An independent simulator: a straight-line target, noisy (r, r') per scan, uniform false
+    alarms. Rows ``[time, sensor, range, range_rate]`` sorted by time, and the target labels."""
+    rows, labels = [], []
+    for s, period in enumerate(periods):
+        for t in np.arange(0.0, duration + 1e-9, period):
+            p = start + velocity * t
+            d = p - sensors[s, :2]
+            r = np.hypot(*d)
+            rows.append(
+                [
+                    t,
+                    s,
+                    r + 0.05 * rng.standard_normal(),
+                    d @ velocity / r + 0.02 * rng.standard_normal(),
+                ]
+            )
+            labels.append(0)
+            for _ in range(false_alarms):
+                rows.append([t, s, rng.uniform(0, 100), rng.uniform(-15, 15)])
+                labels.append(-1)
+    order = np.lexsort((np.array(rows)[:, 1], np.array(rows)[:, 0]))
+    return np.array(rows)[order], np.array(labels)[order]
+
+
+@pytest.mark.parametrize("false_alarms", [0, 2])
+def test_track_finds_a_straight_line_target_with_any_layout(
+    rng: np.random.Generator, false_alarms: int
+) -> None:
+    # Three sensors not on a line, looking +y.
+    sensors = paper_sensors(3)
+    sensors[:, 1] = [0.0, 3.0, -2.0]
+    start, velocity = np.array([-20.0, 40.0]), np.array([6.0, -2.0])
+    det, labels = simulate_line(rng, sensors, [0.5, 0.6, 0.7], start, velocity, 8.0, false_alarms)
+    # A straight line: a gentle motion model (1 m/s^2) instead of the paper's 4 g.
+    res = track(det, sensors, accel_sigma=1.0)
+    tracks = res["tracks"]
+    assert tracks.shape[1] == 6 and len(tracks) > 0
+    # The longest track follows the target; its last estimate is within 0.5 m and 0.5 m/s.
+    ids, counts = np.unique(tracks[:, 0], return_counts=True)
+    best = tracks[tracks[:, 0] == ids[np.argmax(counts)]]
+    t, x, y, vx, vy = best[-1, 1:]
+    assert np.hypot(x - (start[0] + velocity[0] * t), y - (start[1] + velocity[1] * t)) < 0.5
+    assert np.hypot(vx - velocity[0], vy - velocity[1]) < 0.5
+    # Its detections are the target's.
+    owner = res["track_of_detection"]
+    mine = labels[owner == ids[np.argmax(counts)]]
+    assert (mine == 0).mean() > 0.95
+    assert 0.0 < res["probability"] <= 1.0
+
+
+def test_track_rejects_bad_input() -> None:
+    sensors = paper_sensors(3)
+    good = np.array([[0.0, 0, 20.0, 1.0], [0.0, 1, 21.0, 1.0]])
+    with pytest.raises(GeofeasError, match=r"detections: expected shape \(n, 4\)"):
+        track(good[:, :3], sensors)
+    with pytest.raises(GeofeasError, match=r"sensors: expected shape \(s, 6\)"):
+        track(good, sensors[:, :5])
+    bad = good.copy()
+    bad[1, 2] = np.nan
+    with pytest.raises(GeofeasError, match="row 1.*range"):
+        track(bad, sensors)
+    bad = good.copy()
+    bad[1, 1] = 7
+    with pytest.raises(GeofeasError, match="row 1: sensor 7"):
+        track(bad, sensors)
+    bad = good.copy()
+    bad[0, 0] = 1.0
+    with pytest.raises(GeofeasError, match="sort detections by time"):
+        track(bad, sensors)
+    bad_sensors = sensors.copy()
+    bad_sensors[2, 4] = -1
+    with pytest.raises(GeofeasError, match="sensor row 2.*max_range"):
+        track(good, bad_sensors)
+    with pytest.raises(GeofeasError, match="pd"):
+        track(good, sensors, pd=1.0)
+    with pytest.raises(GeofeasError, match="max_hypotheses"):
+        track(good, sensors, max_hypotheses=0)
+    # Non-contiguous and integer input is accepted.
+    res = track(np.asfortranarray(good), sensors.astype(np.float32))
+    assert res["tracks"].shape[1] == 6
+
+
+def test_simulate_run_is_seeded_and_consistent() -> None:
+    a = simulate_run(targets=2, sensors=3, false_alarms=2, seed=4)
+    b = simulate_run(targets=2, sensors=3, false_alarms=2, seed=4)
+    c = simulate_run(targets=2, sensors=3, false_alarms=2, seed=5)
+    np.testing.assert_array_equal(a["detections"], b["detections"])
+    assert not np.array_equal(a["detections"][:, 2], c["detections"][:, 2])
+    det = a["detections"]
+    # 41 + 34 + 29 scans, 2 targets + 2 false alarms each.
+    assert det.shape == ((41 + 34 + 29) * 4, 6)
+    assert set(np.unique(det[:, 4])) == {-1.0, 0.0, 1.0}
+    m = a["metrics"]
+    assert set(m) == {"t_pd", "t_far", "pos_err", "vel_err"}
+    assert 0.0 <= m["t_pd"] <= 1.0
+    truth = a["truth"]
+    speeds = np.hypot(truth[:, 4], truth[:, 5])
+    np.testing.assert_allclose(speeds, 10.0)
+    with pytest.raises(GeofeasError, match="tracker"):
+        simulate_run(tracker="jpda")
+    with pytest.raises(GeofeasError, match="targets"):
+        simulate_run(targets=3)
+
+
+def test_track_ellipses_feed_the_geofeasibility_scores(rng: np.random.Generator) -> None:
+    """Two radar networks see the same two targets; their track AOUs associate by GLR."""
+    net_a = paper_sensors(3)
+    net_b = paper_sensors(2)
+    net_b[:, 0] += 5.0
+    targets = [
+        (np.array([-20.0, 30.0]), np.array([5.0, 1.0])),
+        (np.array([15.0, 60.0]), np.array([-4.0, -2.0])),
+    ]
+    ell = []
+    for net, periods in ((net_a, [0.5, 0.6, 0.7]), (net_b, [0.4, 0.45])):
+        rows = np.vstack([simulate_line(rng, net, periods, p0, v, 6.0)[0] for p0, v in targets])
+        rows = rows[np.lexsort((rows[:, 1], rows[:, 0]))]
+        res = track(rows, net)
+        ids, e = track_ellipses(res)
+        assert e.shape == (len(ids), 5) and len(ids) >= 2
+        ell.append(e)
+    g = geofeas.cdist(ell[0], ell[1], score="glr")
+    # Each track of network A is best matched by the track of B at the same place.
+    for i, e in enumerate(ell[0]):
+        j = int(np.argmax(g[i]))
+        assert np.hypot(*(ell[1][j, :2] - e[:2])) < 1.0
+        assert g[i, j] > 0.1
+    with pytest.raises(GeofeasError):
+        track_ellipses({"tracks": []})
+
+
+def test_study_columns_and_reproducibility() -> None:
+    a = study(runs=2, seed=3, max_hypotheses=10)
+    b = study(runs=2, seed=3, max_hypotheses=10)
+    assert tuple(a) == STUDY_COLUMNS
+    assert len(a["tracker"]) == 40
+    for k in STUDY_COLUMNS:
+        np.testing.assert_array_equal(np.asarray(a[k]), np.asarray(b[k]))
+    assert set(a["tracker"]) == {"mht", "single"}
+    with pytest.raises(GeofeasError, match="runs"):
+        study(runs=0)
+
+
+def test_mht_study_command_writes_the_contract(tmp_path) -> None:
+    out = tmp_path / "study"
+    assert main(["mht-study", "--out", str(out), "--runs", "2", "--seed", "1"]) == 0
+    with open(out / "tables.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert list(rows[0]) == list(STUDY_COLUMNS)
+    assert len(rows) == 40
+    assert {r["tracker"] for r in rows} == {"mht", "single"}
+    assert {r["sensors"] for r in rows} == {"2", "3"}
+    one = sorted(
+        int(r["false_alarms"])
+        for r in rows
+        if r["targets"] == "1" and r["tracker"] == "mht" and r["sensors"] == "3"
+    )
+    assert one == sorted(PAPER_TABLE_1)
+    for name in [
+        "trends.png",
+        "fig_mht_tracks.png",
+        "fig_mht_sensor1.png",
+        "fig_single_sensor3.png",
+        "comparison.md",
+    ]:
+        assert (out / name).stat().st_size > 0
+    assert main(["mht-study", "--out", str(out), "--runs", "0"]) == 2
