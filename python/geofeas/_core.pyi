@@ -94,5 +94,10 @@ def mht_simulate_run(
     ekf_iterations: int = 2,
 ) -> dict[str, Any]: ...
 def mht_study(
-    *, runs: int = 20, seed: int = 0, max_hypotheses: int = 50, ekf_iterations: int = 2
+    *,
+    runs: int = 20,
+    seed: int = 0,
+    max_hypotheses: int = 50,
+    ekf_iterations: int = 2,
+    new_target_rate: float = 0.02,
 ) -> dict[str, Any]: ...

@@ -279,7 +279,12 @@ def simulate_run(
 
 
 def study(
-    *, runs: int = 20, seed: int = 0, max_hypotheses: int = 50, ekf_iterations: int = 2
+    *,
+    runs: int = 20,
+    seed: int = 0,
+    max_hypotheses: int = 50,
+    ekf_iterations: int = 2,
+    new_target_rate: float = 0.02,
 ) -> dict[str, Any]:
     """Monte-Carlo reproduction of Tables 1 and 2 (section 5), in parallel in Rust.
 
@@ -287,7 +292,9 @@ def study(
     sensor per scan, three and two sensors, the MHT and the single-hypothesis baseline; metrics
     pooled over ``runs`` runs. Runs use streams derived from ``(seed, cell, run)``, so results do
     not depend on the thread count, and both trackers see the same data. ``ekf_iterations=0``
-    uses the paper's plain EKF instead of the iterated one.
+    uses the paper's plain EKF instead of the iterated one; ``new_target_rate`` is the expected
+    number of new targets per scan in a sensor's range / range-rate window (the new-target density
+    of Reid's hypothesis probabilities, which the paper does not give).
 
     Returns
     -------
@@ -301,6 +308,7 @@ def study(
             seed=_int(seed, "seed", 0),
             max_hypotheses=_int(max_hypotheses, "max_hypotheses", 1),
             ekf_iterations=_int(ekf_iterations, "ekf_iterations", 0),
+            new_target_rate=float(new_target_rate),
         )
     )
     for key in ("targets", "sensors", "false_alarms"):

@@ -288,6 +288,7 @@ fn mht_simulate_run<'py>(
         seed,
         max_hypotheses,
         ekf_iterations,
+        ..StudyOptions::default()
     };
     let o = detached(py, move || run_one(&cell, &opts, run))?;
     let n = o.detections.len();
@@ -337,19 +338,21 @@ fn mht_simulate_run<'py>(
 
 /// The Monte-Carlo study of Tables 1 and 2: one row per cell of the paper's grid.
 #[pyfunction]
-#[pyo3(signature = (*, runs=20, seed=0, max_hypotheses=50, ekf_iterations=2))]
+#[pyo3(signature = (*, runs=20, seed=0, max_hypotheses=50, ekf_iterations=2, new_target_rate=0.02))]
 fn mht_study<'py>(
     py: Python<'py>,
     runs: usize,
     seed: u64,
     max_hypotheses: usize,
     ekf_iterations: usize,
+    new_target_rate: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts = StudyOptions {
         runs,
         seed,
         max_hypotheses,
         ekf_iterations,
+        new_target_rate,
     };
     let cells = paper_cells();
     let rows = detached(py, || {

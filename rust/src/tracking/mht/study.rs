@@ -49,7 +49,7 @@ pub struct Cell {
 }
 
 /// Study options.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StudyOptions {
     /// Monte-Carlo runs per cell.
     pub runs: usize,
@@ -59,6 +59,9 @@ pub struct StudyOptions {
     pub max_hypotheses: usize,
     /// Relinearisations of the Cartesian EKF update (0: the paper's plain EKF).
     pub ekf_iterations: usize,
+    /// Expected new targets per scan in a sensor's range / range-rate window: the new-target
+    /// density is this over the window's volume (the paper does not give it).
+    pub new_target_rate: f64,
 }
 
 impl Default for StudyOptions {
@@ -68,6 +71,7 @@ impl Default for StudyOptions {
             seed: 0,
             max_hypotheses: 50,
             ekf_iterations: 2,
+            new_target_rate: 0.02,
         }
     }
 }
@@ -114,6 +118,14 @@ pub fn tracker_config(cell: &Cell, scenario: &Scenario, opts: &StudyOptions) -> 
         max_hypotheses: opts.max_hypotheses,
         ekf_iterations: opts.ekf_iterations,
         ..MhtConfig::for_scenario(scenario)
+    };
+    let volume = scenario
+        .sensors
+        .first()
+        .map_or(3000.0, |s| s.window_volume());
+    let base = MhtConfig {
+        new_target_density: opts.new_target_rate / volume,
+        ..base
     };
     match cell.tracker {
         TrackerKind::Mht => base,
@@ -187,6 +199,12 @@ pub fn study_with_interrupt(
         return Err(Error::InvalidOption {
             name: "runs",
             reason: "must be >= 1".into(),
+        });
+    }
+    if !(opts.new_target_rate.is_finite() && opts.new_target_rate > 0.0) {
+        return Err(Error::InvalidOption {
+            name: "new_target_rate",
+            reason: format!("must be finite and > 0, got {}", opts.new_target_rate),
         });
     }
     if opts.max_hypotheses == 0 {
