@@ -107,8 +107,10 @@ def plot_trends(rows: list[dict[str, Any]], path: Path) -> None:
             ax.plot(fas, [paper[f][col] for f in fas], "k^:", label="paper (MHT, 3 sensors)")
             ax.set_title(f"{targets} target(s): {label}")
             ax.set_xlabel("false alarms per sensor per scan")
-            if key in ("t_far", "pos_err", "vel_err"):
-                ax.set_yscale("symlog", linthresh=1.0)
+            if key == "t_far":
+                ax.set_yscale("symlog", linthresh=0.1)
+            elif key in ("pos_err", "vel_err"):
+                ax.set_yscale("log")
     axes[0, 0].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=100)
