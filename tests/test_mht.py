@@ -278,3 +278,19 @@ def test_mht_study_command_writes_the_contract(tmp_path) -> None:
     ]:
         assert (out / name).stat().st_size > 0
     assert main(["mht-study", "--out", str(out), "--runs", "0"]) == 2
+
+
+@pytest.mark.parametrize("targets", [1, 2])
+def test_without_false_alarms_the_true_tracks_are_found(targets: int) -> None:
+    r = simulate_run(targets=targets, sensors=3, false_alarms=0, seed=2)
+    m = r["metrics"]
+    assert m["t_pd"] > 0.9 and m["t_far"] == 0.0 and m["pos_err"] < 1.5, m
+    det = r["detections"]
+    tracked = det[det[:, 5] >= 0]
+    # Every detection is in a track, and every track holds one target's detections only.
+    assert len(tracked) > 0.9 * len(det)
+    for tid in np.unique(tracked[:, 5]):
+        assert len(np.unique(tracked[tracked[:, 5] == tid, 4])) == 1
+    # The single-hypothesis baseline also succeeds without false alarms.
+    s = simulate_run(targets=targets, sensors=3, false_alarms=0, seed=2, tracker="single")
+    assert s["metrics"]["t_pd"] > 0.9

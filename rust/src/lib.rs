@@ -9,6 +9,8 @@
 //! - [`score::Polygon`]: the normalised overlap area (eqs. 49-50) on polygonised ellipses.
 //! - [`score::MonteCarlo`]: the importance-sampling estimator of eq. 55.
 //! - [`score::score_pairs`] / [`score::score_cdist`]: the parallel batch drivers shared by all.
+//! - [`tracking::mht`]: multiple-hypothesis trilateration and tracking with distributed radars
+//!   (seed 004), whose Cartesian tracks give AOU ellipses for the scores.
 //!
 //! The crate has no Python types; the PyO3 bindings live behind the `python` feature.
 //!

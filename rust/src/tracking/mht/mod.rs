@@ -16,6 +16,22 @@
 //! A Cartesian track's position covariance is a geofeas [`crate::Ellipse`]
 //! ([`track::Track::ellipse`]), so tracks of two radar networks can be scored with the
 //! geofeasibility scores.
+//!
+//! ```
+//! use geofeas::score::monte_carlo::stream;
+//! use geofeas::tracking::mht::{Mht, MhtConfig, Scenario};
+//!
+//! // The paper's two-target scenario with two false alarms per sensor per scan.
+//! let scenario = Scenario::paper(2, 3, 2).unwrap();
+//! let detections = scenario.simulate(&mut stream(7, 0));
+//! let mut mht = Mht::new(scenario.sensors.clone(), MhtConfig::for_scenario(&scenario)).unwrap();
+//! mht.run(&scenario.scan_times(), &detections, |_, _, _| {}).unwrap();
+//! // Probabilities of the kept hypotheses sum to one; the best holds Cartesian tracks with AOUs.
+//! let total: f64 = mht.hypotheses().iter().map(|h| h.probability()).sum();
+//! assert!((total - 1.0).abs() < 1e-9);
+//! let ellipses: Vec<_> = mht.best().tracks.iter().filter_map(|t| t.ellipse()).collect();
+//! assert!(ellipses.len() >= 2);
+//! ```
 
 pub mod cartesian;
 pub mod hypothesis;

@@ -31,6 +31,17 @@ pub struct Trilateration {
 ///
 /// Returns `None` when the circles do not intersect, the sensors coincide, the lines of sight are
 /// parallel, or neither intersection lies in both beams.
+///
+/// ```
+/// use geofeas::tracking::mht::{trilaterate, Sensor};
+/// use nalgebra::Vector2;
+/// // Sensors at x = -10 and 10 m facing +y; a target at (0, 10 sqrt 3) moving at (0, 1) m/s.
+/// let (a, b) = (Sensor::paper(-10.0, 0.5), Sensor::paper(10.0, 0.7));
+/// let (r, rr) = (20.0, 3f64.sqrt() / 2.0);
+/// let t = trilaterate(&a, Vector2::new(r, rr), &b, Vector2::new(r, rr)).unwrap();
+/// assert!(t.state[0].abs() < 1e-12 && (t.state[1] - 10.0 * 3f64.sqrt()).abs() < 1e-12);
+/// assert!(t.state[2].abs() < 1e-12 && (t.state[3] - 1.0).abs() < 1e-12);
+/// ```
 pub fn trilaterate(
     a: &Sensor,
     za: Vector2<f64>,
