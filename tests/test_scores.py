@@ -208,6 +208,15 @@ def test_monte_carlo_unbiased_within_standard_error():
     assert 0.5 < est.std() / r.std() < 2.0
 
 
+def test_monte_carlo_mean_over_seeds_within_standard_error():
+    a = np.array([0.0, 0.0, 3.0, 1.0, 0.4])
+    b = np.array([1.0, 0.5, 2.0, 1.5, 1.2])
+    truth = ref.overlap(a[None], b[None])[0]
+    est = np.array([geofeas.monte_carlo(a, b, samples=500, seed=s) for s in range(1500)])
+    se = est.std(ddof=1) / np.sqrt(len(est))
+    assert abs(est.mean() - truth) < 4 * se
+
+
 def test_monte_carlo_close_to_exact_on_random_pairs(pairs, true_overlap):
     a, b = (x[:3000] for x in pairs)
     g = geofeas.monte_carlo(a, b, samples=500, seed=2)
