@@ -146,6 +146,15 @@ def run(args: argparse.Namespace) -> int:
         file=sys.stderr,
     )
     if not args.no_figures:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            print(
+                "geofeas mht-study: error: the figures need matplotlib "
+                "(pip install 'geofeas[plot]'); the tables are written, use --no-figures to skip",
+                file=sys.stderr,
+            )
+            return 2
         plot_trends(rows, out / "trends.png")
         for tracker in ("mht", "single"):
             r = simulate_run(
