@@ -294,3 +294,14 @@ def test_without_false_alarms_the_true_tracks_are_found(targets: int) -> None:
     # The single-hypothesis baseline also succeeds without false alarms.
     s = simulate_run(targets=targets, sensors=3, false_alarms=0, seed=2, tracker="single")
     assert s["metrics"]["t_pd"] > 0.9
+
+
+def test_detection_probability_is_configurable() -> None:
+    full = simulate_run(targets=2, false_alarms=0, seed=3)["detections"]
+    some = simulate_run(targets=2, false_alarms=0, seed=3, detection_probability=0.7)
+    det = some["detections"]
+    # Binomial(208, 0.7): 145.6 expected, standard deviation 6.6.
+    assert len(full) == 208 and 120 < len(det) < 172
+    assert 0.0 <= some["metrics"]["t_pd"] <= 1.0
+    with pytest.raises(GeofeasError, match="pd"):
+        simulate_run(detection_probability=1.5)

@@ -127,6 +127,7 @@ def run(args: argparse.Namespace) -> int:
         max_hypotheses=args.max_hypotheses,
         ekf_iterations=args.ekf_iterations,
         new_target_rate=args.new_target_rate,
+        detection_probability=args.detection_probability,
     )
     elapsed = time.perf_counter() - t0
     rows = [{c: res[c][i] for c in STUDY_COLUMNS} for i in range(len(res["tracker"]))]
@@ -138,7 +139,8 @@ def run(args: argparse.Namespace) -> int:
     write_tables(rows, out / "tables.csv")
     note = (
         f", {args.max_hypotheses} hypotheses, {args.ekf_iterations} EKF relinearisations, "
-        f"new-target rate {args.new_target_rate:g}"
+        f"new-target rate {args.new_target_rate:g}, detection probability "
+        f"{args.detection_probability:g}"
     )
     (out / "comparison.md").write_text(comparison_markdown(rows, args.runs, args.seed, note))
     print(
@@ -166,6 +168,7 @@ def run(args: argparse.Namespace) -> int:
                 seed=args.seed,
                 max_hypotheses=args.max_hypotheses,
                 ekf_iterations=args.ekf_iterations,
+                detection_probability=args.detection_probability,
             )
             plot_run(r, out, prefix=f"fig_{tracker}")
         print(f"figures -> {out}", file=sys.stderr)
@@ -194,6 +197,12 @@ def add_parser(sub: Any) -> None:
         type=float,
         default=0.02,
         help="expected new targets per scan in a sensor window (0.02)",
+    )
+    p.add_argument(
+        "--detection-probability",
+        type=float,
+        default=1.0,
+        help="detection probability of the simulated sensors (1, as in the paper)",
     )
     p.add_argument("--no-figures", action="store_true", help="write the CSV and markdown only")
     p.set_defaults(func=run)

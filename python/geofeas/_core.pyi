@@ -92,6 +92,7 @@ def mht_simulate_run(
     seed: int = 0,
     max_hypotheses: int = 50,
     ekf_iterations: int = 2,
+    detection_probability: float = 1.0,
 ) -> dict[str, Any]: ...
 def mht_study(
     *,
@@ -100,4 +101,5 @@ def mht_study(
     max_hypotheses: int = 50,
     ekf_iterations: int = 2,
     new_target_rate: float = 0.02,
+    detection_probability: float = 1.0,
 ) -> dict[str, Any]: ...

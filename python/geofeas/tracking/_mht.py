@@ -252,8 +252,10 @@ def simulate_run(
     seed: int = 0,
     max_hypotheses: int = 50,
     ekf_iterations: int = 2,
+    detection_probability: float = 1.0,
 ) -> dict[str, Any]:
-    """Simulates and tracks one run of the paper's scenario (section 5.1).
+    """Simulates and tracks one run of the paper's scenario (section 5.1), with the sensors'
+    ``detection_probability`` (the paper: 1).
 
     Returns
     -------
@@ -274,6 +276,7 @@ def simulate_run(
             seed=_int(seed, "seed", 0),
             max_hypotheses=_int(max_hypotheses, "max_hypotheses", 1),
             ekf_iterations=_int(ekf_iterations, "ekf_iterations", 0),
+            detection_probability=float(detection_probability),
         )
     )
 
@@ -285,6 +288,7 @@ def study(
     max_hypotheses: int = 50,
     ekf_iterations: int = 2,
     new_target_rate: float = 0.02,
+    detection_probability: float = 1.0,
 ) -> dict[str, Any]:
     """Monte-Carlo reproduction of Tables 1 and 2 (section 5), in parallel in Rust.
 
@@ -294,7 +298,8 @@ def study(
     not depend on the thread count, and both trackers see the same data. ``ekf_iterations=0``
     uses the paper's plain EKF instead of the iterated one; ``new_target_rate`` is the expected
     number of new targets per scan in a sensor's range / range-rate window (the new-target density
-    of Reid's hypothesis probabilities, which the paper does not give).
+    of Reid's hypothesis probabilities, which the paper does not give);
+    ``detection_probability`` is the simulated sensors' (the paper: 1; the tracker assumes 0.9).
 
     Returns
     -------
@@ -309,6 +314,7 @@ def study(
             max_hypotheses=_int(max_hypotheses, "max_hypotheses", 1),
             ekf_iterations=_int(ekf_iterations, "ekf_iterations", 0),
             new_target_rate=float(new_target_rate),
+            detection_probability=float(detection_probability),
         )
     )
     for key in ("targets", "sensors", "false_alarms"):

@@ -264,7 +264,7 @@ fn mht_track<'py>(
 /// Simulates and tracks one run of a paper scenario; returns detections, tracks, ellipses, truth
 /// and metrics.
 #[pyfunction]
-#[pyo3(signature = (*, targets=2, sensors=3, false_alarms=2, tracker="mht", run=0, seed=0, max_hypotheses=50, ekf_iterations=2))]
+#[pyo3(signature = (*, targets=2, sensors=3, false_alarms=2, tracker="mht", run=0, seed=0, max_hypotheses=50, ekf_iterations=2, detection_probability=1.0))]
 #[allow(clippy::too_many_arguments)]
 fn mht_simulate_run<'py>(
     py: Python<'py>,
@@ -276,6 +276,7 @@ fn mht_simulate_run<'py>(
     seed: u64,
     max_hypotheses: usize,
     ekf_iterations: usize,
+    detection_probability: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let cell = Cell {
         targets,
@@ -288,6 +289,7 @@ fn mht_simulate_run<'py>(
         seed,
         max_hypotheses,
         ekf_iterations,
+        detection_probability,
         ..StudyOptions::default()
     };
     let o = detached(py, move || run_one(&cell, &opts, run))?;
@@ -338,7 +340,7 @@ fn mht_simulate_run<'py>(
 
 /// The Monte-Carlo study of Tables 1 and 2: one row per cell of the paper's grid.
 #[pyfunction]
-#[pyo3(signature = (*, runs=20, seed=0, max_hypotheses=50, ekf_iterations=2, new_target_rate=0.02))]
+#[pyo3(signature = (*, runs=20, seed=0, max_hypotheses=50, ekf_iterations=2, new_target_rate=0.02, detection_probability=1.0))]
 fn mht_study<'py>(
     py: Python<'py>,
     runs: usize,
@@ -346,6 +348,7 @@ fn mht_study<'py>(
     max_hypotheses: usize,
     ekf_iterations: usize,
     new_target_rate: f64,
+    detection_probability: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts = StudyOptions {
         runs,
@@ -353,6 +356,7 @@ fn mht_study<'py>(
         max_hypotheses,
         ekf_iterations,
         new_target_rate,
+        detection_probability,
     };
     let cells = paper_cells();
     let rows = detached(py, || {

@@ -62,6 +62,8 @@ pub struct StudyOptions {
     /// Expected new targets per scan in a sensor's range / range-rate window: the new-target
     /// density is this over the window's volume (the paper does not give it).
     pub new_target_rate: f64,
+    /// Detection probability of the simulated sensors (paper: 1).
+    pub detection_probability: f64,
 }
 
 impl Default for StudyOptions {
@@ -72,6 +74,7 @@ impl Default for StudyOptions {
             max_hypotheses: 50,
             ekf_iterations: 2,
             new_target_rate: 0.02,
+            detection_probability: 1.0,
         }
     }
 }
@@ -145,7 +148,11 @@ pub fn run_one_with<F: Fn(MhtConfig) -> MhtConfig>(
     run: usize,
     adjust: F,
 ) -> Result<RunOutput> {
-    let scenario = Scenario::paper(cell.targets, cell.sensors, cell.false_alarms)?.validated()?;
+    let scenario = Scenario {
+        pd: opts.detection_probability,
+        ..Scenario::paper(cell.targets, cell.sensors, cell.false_alarms)?
+    }
+    .validated()?;
     let key = (cell.targets as u64) << 40 | (cell.sensors as u64) << 32 | cell.false_alarms as u64;
     let mut rng = stream(opts.seed ^ mix64(key), run as u64);
     let detections = scenario.simulate(&mut rng);
