@@ -24,7 +24,7 @@ def true_overlap(pairs):
 
 def test_glr_matches_reference(pairs):
     a, b = pairs
-    np.testing.assert_allclose(geofeas.glr(a, b), ref.glr(a, b), rtol=1e-12, atol=1e-300)
+    np.testing.assert_allclose(geofeas.glr(a, b), ref.glr(a, b), rtol=1e-12, atol=1e-320)
 
 
 def test_overlap_matches_reference_within_1e_4(pairs, true_overlap):

@@ -6,7 +6,7 @@
 //! for `exp` on `[-ln2/2, ln2/2]` scaled by `2^k` through the exponent bits), select quadrants
 //! with masks instead of branches, plus fdlibm's `log` for [`ln_pos`], and are accurate to a few units in the last place (tested
 //! against `std` below). [`sin_cos`] is valid for `|x| <= SIN_COS_LIMIT`; [`exp_neg`] for
-//! `x <= 0` (it returns exactly 0 below -708, where `std` would return subnormals).
+//! `x <= 0` (down through the subnormal range, like `std`).
 
 // The constants are fdlibm's, written with all the digits it publishes.
 #![allow(clippy::excessive_precision)]
@@ -57,13 +57,14 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     (sin, cos)
 }
 
-/// `exp(x)` for `x <= 0`; exactly 0 for `x < -708`.
+/// `exp(x)` for `x <= 0`, gradually underflowing to the subnormals like `f64::exp`; exactly 0
+/// for `x < -746` (where `exp(x)` rounds to 0).
 #[inline(always)]
 pub fn exp_neg(x: f64) -> f64 {
     const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-01;
     const LN2_LO: f64 = 1.908_214_929_270_587_700_02e-10;
     const INV_LN2: f64 = std::f64::consts::LOG2_E;
-    let xc = if x < -708.0 { -708.0 } else { x };
+    let xc = if x < -746.0 { -746.0 } else { x };
     let shifted = xc * INV_LN2 + MAGIC;
     let k = shifted - MAGIC;
     let r = (xc - k * LN2_HI) - k * LN2_LO;
@@ -82,13 +83,17 @@ pub fn exp_neg(x: f64) -> f64 {
     p = p * r + 0.5;
     p = p * r + 1.0;
     p = p * r + 1.0;
-    // k is an integer in [-1022, 0]: 2^k from the exponent field.
+    // k is an integer in [-1077, 0]: 2^k as the product of two normal powers of two, so that
+    // results below the normal range round once into the subnormals.
     let ki = shifted.to_bits().wrapping_sub(MAGIC.to_bits()) as i64;
-    let scale = f64::from_bits(((ki + 1023) as u64) << 52);
-    if x < -708.0 {
+    let k1 = ki >> 1;
+    let k2 = ki - k1;
+    let s1 = f64::from_bits(((k1 + 1023) as u64) << 52);
+    let s2 = f64::from_bits(((k2 + 1023) as u64) << 52);
+    if x < -746.0 {
         0.0
     } else {
-        p * scale
+        (p * s1) * s2
     }
 }
 
@@ -158,14 +163,17 @@ mod tests {
         let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(2);
         let mut worst: f64 = 0.0;
         for i in 0..400_000 {
-            let x: f64 = if i % 2 == 0 {
-                -rng.random_range(0.0..5.0)
-            } else {
-                -rng.random_range(0.0..708.0)
+            let x: f64 = match i % 3 {
+                0 => -rng.random_range(0.0..5.0),
+                1 => -rng.random_range(0.0..708.0),
+                _ => -rng.random_range(708.0..746.0),
             };
             worst = worst.max(ulps(exp_neg(x), x.exp()));
         }
         assert!(worst <= 4.0, "worst {worst} ulp");
+        // the subnormal range, gradually (the eq. 71 kernel must not flush it to zero)
+        assert!(exp_neg(-720.0) > 0.0 && exp_neg(-744.0) > 0.0);
+        assert_eq!(exp_neg(-745.2), (-745.2f64).exp());
         assert_eq!(exp_neg(0.0), 1.0);
         assert_eq!(exp_neg(-800.0), 0.0);
         assert_eq!(exp_neg(f64::NEG_INFINITY), 0.0);
