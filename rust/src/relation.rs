@@ -11,6 +11,7 @@
 //! origin lose no digits.
 
 use crate::ellipse::Ellipse;
+use crate::fastmath::sin_cos;
 
 /// The relative position of two closed ellipses `a` and `b`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -59,19 +60,19 @@ impl BoundaryFn {
         }
     }
 
-    /// `f(t)`.
+    /// `f(t)`, for `|t| <= fastmath::SIN_COS_LIMIT`.
     #[inline]
     pub fn value(&self, t: f64) -> f64 {
-        let (s, c) = t.sin_cos();
+        let (s, c) = sin_cos(t);
         let (s2, c2) = (2.0 * s * c, c * c - s * s);
         let k = &self.k;
         k[0] + k[1] * c2 + k[2] * s2 + k[3] * c + k[4] * s
     }
 
-    /// `f'(t)` and `f''(t)`.
+    /// `f'(t)` and `f''(t)`, for `|t| <= fastmath::SIN_COS_LIMIT`.
     #[inline]
     pub fn derivs(&self, t: f64) -> (f64, f64) {
-        let (s, c) = t.sin_cos();
+        let (s, c) = sin_cos(t);
         let (s2, c2) = (2.0 * s * c, c * c - s * s);
         let k = &self.k;
         (
@@ -96,22 +97,29 @@ impl BoundaryFn {
         (lo, hi, 16.0 * f64::EPSILON * scale)
     }
 
-    /// `(min f, max f)` over a full turn.
+    /// `(min f, max f)` over a full turn: `f` on the 48-point grid, and at every root of `f'`
+    /// bracketed by a sign change between grid points (at most four for degree 2), polished by
+    /// safeguarded Newton. The grid values come from the tabulated cosines and sines; only the
+    /// polishing calls `sin_cos`.
     pub fn extremes(&self) -> (f64, f64) {
         const N: usize = 48;
         let step = std::f64::consts::TAU / N as f64;
+        let k = &self.k;
+        let value = |[c, s, c2, s2]: [f64; 4]| k[0] + k[1] * c2 + k[2] * s2 + k[3] * c + k[4] * s;
+        let slope =
+            |[c, s, c2, s2]: [f64; 4]| -2.0 * k[1] * s2 + 2.0 * k[2] * c2 - k[3] * s + k[4] * c;
+        let grid = &*GRID;
         let mut lo = f64::INFINITY;
         let mut hi = f64::NEG_INFINITY;
-        let mut d_prev = self.derivs(0.0).0;
+        let mut d_prev = slope(grid[0]);
         for i in 0..N {
-            let t0 = i as f64 * step;
-            let t1 = t0 + step;
-            let v0 = self.value(t0);
+            let v0 = value(grid[i]);
             lo = lo.min(v0);
             hi = hi.max(v0);
-            let d1 = self.derivs(t1).0;
+            let d1 = slope(grid[(i + 1) % N]);
             if (d_prev <= 0.0) != (d1 <= 0.0) {
-                let v = self.value(self.critical_point(t0, t1, d_prev));
+                let t0 = i as f64 * step;
+                let v = self.value(self.critical_point(t0, t0 + step, d_prev));
                 lo = lo.min(v);
                 hi = hi.max(v);
             }
@@ -135,11 +143,16 @@ impl BoundaryFn {
                 t1 = t;
             }
             let newton = t - d / dd;
-            t = if dd != 0.0 && newton > t0 && newton < t1 {
-                newton
+            if dd != 0.0 && newton > t0 && newton < t1 {
+                // converged when the Newton step no longer moves t (t is in [0, 2 pi])
+                let done = (newton - t).abs() <= 4.0 * f64::EPSILON;
+                t = newton;
+                if done {
+                    break;
+                }
             } else {
-                0.5 * (t0 + t1)
-            };
+                t = 0.5 * (t0 + t1);
+            }
             if (t1 - t0).abs() < 1e-15 {
                 break;
             }
