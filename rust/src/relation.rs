@@ -97,6 +97,16 @@ impl BoundaryFn {
         (lo, hi, 16.0 * f64::EPSILON * scale)
     }
 
+    /// A bound on how far `f` between two points of the 48-point grid can fall below or rise
+    /// above the chord of its values there: `h^2 / 8 max|f''|`, with
+    /// `max|f''| <= 4 |(K1, K2)| + |(K3, K4)|`.
+    #[inline]
+    pub fn grid_slack(&self) -> f64 {
+        let k = &self.k;
+        let h = std::f64::consts::TAU / 48.0;
+        h * h / 8.0 * (4.0 * k[1].hypot(k[2]) + k[3].hypot(k[4]))
+    }
+
     /// `(min f, max f)` over a full turn: `f` on the 48-point grid, and at every root of `f'`
     /// bracketed by a sign change between grid points (at most four for degree 2), polished by
     /// safeguarded Newton. The grid values come from the tabulated cosines and sines; only the
@@ -185,6 +195,27 @@ pub fn relation(a: &Ellipse, b: &Ellipse) -> Relation {
     if lo < 1.0 - err && hi > 1.0 + err {
         return Relation::Crossing;
     }
+    // Certified fast paths: between grid points `f` strays from the sampled values by at most
+    // `h^2 / 8 max|f''|` (h = 2 pi / 48).
+    let slack = fa.grid_slack() + err;
+    if hi + slack < 1.0 {
+        return Relation::AInsideB;
+    }
+    if lo - slack > 1.0 {
+        // a's boundary lies strictly outside b: the boundaries do not meet, so b lies wholly
+        // inside or wholly outside a, which its centre tells.
+        let [u, v] = a.normalise(b.x0, b.y0);
+        return if u * u + v * v < 1.0 {
+            Relation::BInsideA
+        } else {
+            Relation::Disjoint
+        };
+    }
+    by_extremes(a, b, &fa)
+}
+
+/// The relation from the exact extremes of both boundary functions (the slow, general path).
+fn by_extremes(a: &Ellipse, b: &Ellipse, fa: &BoundaryFn) -> Relation {
     let (amin, amax) = fa.extremes();
     if amax <= 1.0 {
         return Relation::AInsideB;
@@ -234,6 +265,34 @@ mod tests {
             let [u, v] = b.normalise(p[0], p[1]);
             assert!((f.value(t) - (u * u + v * v)).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn fast_paths_agree_with_the_extremes() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(11);
+        let mut seen = [0usize; 4];
+        for i in 0..200_000 {
+            let rx = rng.random_range(0.1..3.0);
+            let a = Ellipse::new(0.0, 0.0, rx, rx * rng.random_range(0.05..1.0), rng.random());
+            let rx = rng.random_range(0.1..3.0);
+            let reach = if i % 2 == 0 { 4.0 } else { 1.0 };
+            let b = Ellipse::new(
+                rng.random_range(-reach..reach),
+                rng.random_range(-reach..reach),
+                rx,
+                rx * rng.random_range(0.05..1.0),
+                rng.random(),
+            );
+            let fast = relation(&a, &b);
+            assert_eq!(
+                fast,
+                by_extremes(&a, &b, &BoundaryFn::new(&a, &b)),
+                "{a:?} {b:?}"
+            );
+            seen[fast as usize] += 1;
+        }
+        assert!(seen.iter().all(|&n| n > 1000), "{seen:?}");
     }
 
     #[test]
