@@ -113,11 +113,11 @@ fn one_to_one(r: &[Vec<f64>]) -> Vec<Option<usize>> {
                 dp[i + 1][mask] = cur;
                 from[i + 1][mask] = (mask, None);
             }
-            for j in 0..cols {
+            for (j, &rij) in r[i].iter().enumerate() {
                 if mask & (1 << j) != 0 {
                     continue;
                 }
-                let next = (cur.0 + 1, cur.1 + r[i][j]);
+                let next = (cur.0 + 1, cur.1 + rij);
                 let m2 = mask | (1 << j);
                 if better(next, dp[i + 1][m2]) {
                     dp[i + 1][m2] = next;

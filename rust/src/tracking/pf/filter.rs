@@ -103,6 +103,7 @@ impl ParticleFilter {
     }
 
     /// Weighted mean and covariance.
+    #[allow(clippy::needless_range_loop)]
     pub fn estimate(&self) -> Estimate {
         let p = &self.particles;
         let cols = [&p.x, &p.y, &p.vx, &p.vy];

@@ -155,7 +155,7 @@ impl Frame {
 pub fn profile(x: f64, reach: f64, n: usize, s: f64) -> Option<(usize, Vec<f64>)> {
     let lo = (x - reach).ceil().max(0.0);
     let hi = (x + reach).floor().min(n as f64 - 1.0);
-    if !(lo <= hi) {
+    if lo.is_nan() || hi.is_nan() || lo > hi {
         return None;
     }
     let c = 0.5 / (s * s);

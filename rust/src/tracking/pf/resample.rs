@@ -79,7 +79,7 @@ impl Resampling {
                 let mut resid = Vec::with_capacity(n);
                 for (i, &wi) in w.iter().enumerate() {
                     let c = (n as f64 * wi).floor() as usize;
-                    out.extend(std::iter::repeat_n(i, c));
+                    out.extend(std::iter::repeat(i).take(c));
                     resid.push(n as f64 * wi - c as f64);
                 }
                 let m = n.saturating_sub(out.len());
@@ -94,7 +94,7 @@ impl Resampling {
                     } else {
                         // Rounding left no residual mass: repeat the heaviest particle.
                         let best = (0..n).max_by(|&a, &b| w[a].total_cmp(&w[b])).unwrap_or(0);
-                        out.extend(std::iter::repeat_n(best, m));
+                        out.extend(std::iter::repeat(best).take(m));
                     }
                 }
                 out.truncate(n);

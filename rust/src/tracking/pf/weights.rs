@@ -464,9 +464,8 @@ mod tests {
             for parallel in [false, true] {
                 let mut out = vec![0.0; n];
                 model.log_weights(&f, &p, &mut out, parallel);
-                for k in 0..n {
+                for (k, &got) in out.iter().enumerate() {
                     let want = model.log_ratio_direct(&f, p.x[k], p.y[k]);
-                    let got = out[k];
                     assert!(
                         (got - want).abs() <= 1e-10 * (1.0 + want.abs()),
                         "{k}: ({}, {}) {got} {want}",
