@@ -274,9 +274,7 @@ def pf_track(
         raise GeofeasError(f"frames: expected shape (F, H, W), got {f.shape}")
     x0 = as_float_array(init, "init")
     if x0.ndim != 2 or x0.shape[1] != 4:
-        raise GeofeasError(
-            f"init: expected shape (n, 4) with columns x, y, vx, vy; got {x0.shape}"
-        )
+        raise GeofeasError(f"init: expected shape (n, 4) with columns x, y, vx, vy; got {x0.shape}")
     return dict(
         _core.pf_track(
             f,
@@ -419,7 +417,8 @@ def pf_study(
     -------
     dict
         Columns ``method``, ``snr_db``, ``xmax``, ``vmax``, ``pca`` (probability of correct
-        association), ``rmse_px`` (position RMSE), ``coverage`` (fraction of errors inside the
+        association: the peak taken is nearer the filter's own target than any other), ``hit``
+        (the peak taken is also within 3 px of that target), ``rmse_px`` (position RMSE), ``coverage`` (fraction of errors inside the
         filters' 2-sigma bounds, per axis), ``held`` (fraction of tracks whose error stays
         below 5 px over the last second), and ``filter_pca``, ``filter_rmse_px`` ``(rows, 4)``.
     """
@@ -502,7 +501,9 @@ def plot_pf_run(result: dict[str, Any], out_dir: str | Path, *, prefix: str = "r
         ax.imshow(frames[-1], cmap="gray", origin="lower", alpha=0.6)
     snaps = np.asarray(result["snapshots"])
     for i in range(n):
-        ax.plot(truth[:, i, 0], truth[:, i, 1], "-", color=colours[i], lw=1.2, label=f"target {i + 1}")
+        ax.plot(
+            truth[:, i, 0], truth[:, i, 1], "-", color=colours[i], lw=1.2, label=f"target {i + 1}"
+        )
         ax.plot(est[:, i, 0], est[:, i, 1], "--", color="k", lw=0.7)
         sel = snaps[snaps[:, 1] == i] if len(snaps) else snaps
         if len(sel):

@@ -678,6 +678,7 @@ fn pf_study<'py>(
     out.set_item("xmax", col(&|r| r.cell.xmax).into_pyarray(py))?;
     out.set_item("vmax", col(&|r| r.cell.vmax).into_pyarray(py))?;
     out.set_item("pca", col(&|r| r.all.pca).into_pyarray(py))?;
+    out.set_item("hit", col(&|r| r.all.hit).into_pyarray(py))?;
     out.set_item("rmse_px", col(&|r| r.all.rmse).into_pyarray(py))?;
     out.set_item("coverage", col(&|r| r.all.coverage).into_pyarray(py))?;
     out.set_item("held", col(&|r| r.all.held).into_pyarray(py))?;

@@ -141,7 +141,7 @@ impl ParticleFilter {
         let (mut sw, mut s1, mut s2) = (0.0, 0.0, 0.0);
         let (wmax, hmax) = (frame.width as f64 - 1.0, frame.height as f64 - 1.0);
         for n in 0..p.len() {
-            let (i, j) = (p.x[n].round(), p.y[n].round());
+            let (i, j) = ((p.x[n] + 0.5).floor(), (p.y[n] + 0.5).floor());
             if !(i >= 0.0 && j >= 0.0 && i <= wmax && j <= hmax) {
                 continue;
             }

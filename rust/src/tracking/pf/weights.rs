@@ -7,7 +7,8 @@
 //! - Method 1: `log w_n = -(r_n / r_1)^2`, `r_n` the distance from particle `n` to the associated
 //!   measurement peak (paper: `r_1 = 1` pixel).
 //! - Method 2: `log W_n = sum_{(i, j) in C_n} -h(h - 2z) / (2 sigma^2)` over the `(2D + 1)^2`
-//!   cells `C_n` within `+-D` of the particle's cell (clipped to the array), with the filter's
+//!   cells `C_n` within `+-D` of the particle's cell `floor(x + 1/2)`, `floor(y + 1/2)`
+//!   (clipped to the array), with the filter's
 //!   point spread `h(i, j) = A exp(-((i - x_n)^2 + (j - y_n)^2) / (2 S^2))`. In the paper the
 //!   filter's `A`, `S`, `sigma` are deliberately wrong: 0.8 A, 1.5 Sigma, 1.5 sigma_Z
 //!   ([`LikelihoodModel::paper`]). Since `h = A g_x(i) g_y(j)` is an outer product,
@@ -106,7 +107,7 @@ impl LikelihoodModel {
             return None;
         }
         let d = self.half_box as f64;
-        let (cx, cy) = (x.round(), y.round());
+        let (cx, cy) = ((x + 0.5).floor(), (y + 0.5).floor());
         let lo_x = (cx - d).max(0.0);
         let hi_x = (cx + d).min(frame.width as f64 - 1.0);
         let lo_y = (cy - d).max(0.0);
@@ -178,8 +179,8 @@ impl LikelihoodModel {
             let mut cy = [0.0f64; 4];
             let mut inside = true;
             for l in 0..4 {
-                cx[l] = xs[n + l].round();
-                cy[l] = ys[n + l].round();
+                cx[l] = (xs[n + l] + 0.5).floor();
+                cy[l] = (ys[n + l] + 0.5).floor();
                 // Written so that NaN fails.
                 inside &= cx[l] >= 10.0 && cy[l] >= 10.0 && cx[l] <= wmax && cy[l] <= hmax;
             }
