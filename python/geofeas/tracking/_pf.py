@@ -418,9 +418,10 @@ def pf_study(
     dict
         Columns ``method``, ``snr_db``, ``xmax``, ``vmax``, ``pca`` (probability of correct
         association: the peak taken is nearer the filter's own target than any other), ``hit``
-        (the peak taken is also within 3 px of that target), ``rmse_px`` (position RMSE), ``coverage`` (fraction of errors inside the
-        filters' 2-sigma bounds, per axis), ``held`` (fraction of tracks whose error stays
-        below 5 px over the last second), and ``filter_pca``, ``filter_rmse_px`` ``(rows, 4)``.
+        (the peak taken is also within 3 px of that target), ``rmse_px`` (position RMSE),
+        ``coverage`` (fraction of errors inside the filters' 2-sigma bounds, per axis),
+        ``held`` (fraction of tracks whose error stays below 5 px over the last second), and
+        ``filter_pca``, ``filter_rmse_px`` ``(rows, 4)``.
     """
     ic_arr = as_float_array(ic, "ic")
     if ic_arr.ndim != 2 or ic_arr.shape[1] != 2:
