@@ -129,49 +129,71 @@ pub fn find_peaks(frame: &Frame, opts: &PeakOptions) -> Vec<Peak> {
     let (w, h) = (f.width, f.height);
     let z = &f.data;
     let mut maxima: Vec<(f64, usize)> = Vec::new();
-    for j in 0..h {
-        for i in 0..w {
-            let c = j * w + i;
-            let v = z[c];
-            let mut is_max = true;
-            'n: for dj in -1isize..=1 {
-                for di in -1isize..=1 {
-                    if di == 0 && dj == 0 {
-                        continue;
-                    }
-                    let (ii, jj) = (i as isize + di, j as isize + dj);
-                    if ii < 0 || jj < 0 || ii >= w as isize || jj >= h as isize {
-                        continue;
-                    }
-                    let n = jj as usize * w + ii as usize;
-                    // Strictly greater than earlier cells, >= later ones: one maximum per plateau.
-                    if (n < c && z[n] >= v) || (n > c && z[n] > v) {
-                        is_max = false;
-                        break 'n;
-                    }
+    // Strictly greater than earlier cells, >= later ones: one maximum per plateau.
+    let is_max = |i: usize, j: usize| -> bool {
+        let c = j * w + i;
+        let v = z[c];
+        for dj in -1isize..=1 {
+            for di in -1isize..=1 {
+                if di == 0 && dj == 0 {
+                    continue;
+                }
+                let (ii, jj) = (i as isize + di, j as isize + dj);
+                if ii < 0 || jj < 0 || ii >= w as isize || jj >= h as isize {
+                    continue;
+                }
+                let n = jj as usize * w + ii as usize;
+                if (n < c && z[n] >= v) || (n > c && z[n] > v) {
+                    return false;
                 }
             }
-            if is_max {
-                maxima.push((v, c));
+        }
+        true
+    };
+    for j in 0..h {
+        let row = &z[j * w..(j + 1) * w];
+        for i in 0..w {
+            // Most cells fail against their row neighbours; test those first.
+            let v = row[i];
+            if (i > 0 && row[i - 1] >= v) || (i + 1 < w && row[i + 1] > v) {
+                continue;
+            }
+            if is_max(i, j) {
+                maxima.push((v, j * w + i));
             }
         }
     }
-    maxima.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    let order = |a: &(f64, usize), b: &(f64, usize)| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1));
     let sep2 = opts.min_separation * opts.min_separation;
-    let mut out: Vec<Peak> = Vec::with_capacity(opts.count);
-    for (v, c) in maxima {
-        if out.len() == opts.count {
-            break;
+    let accept = |cands: &[(f64, usize)]| -> Vec<Peak> {
+        let mut out: Vec<Peak> = Vec::with_capacity(opts.count);
+        for &(v, c) in cands {
+            if out.len() == opts.count {
+                break;
+            }
+            let (x, y) = ((c % w) as f64, (c / w) as f64);
+            if out
+                .iter()
+                .all(|p| (p.x - x).powi(2) + (p.y - y).powi(2) >= sep2)
+            {
+                out.push(Peak { x, y, value: v });
+            }
         }
-        let (x, y) = ((c % w) as f64, (c / w) as f64);
-        if out
-            .iter()
-            .all(|p| (p.x - x).powi(2) + (p.y - y).powi(2) >= sep2)
-        {
-            out.push(Peak { x, y, value: v });
+        out
+    };
+    // Usually the strongest few dozen maxima suffice; sort everything only when they do not.
+    let m = (16 * opts.count).max(64);
+    if maxima.len() > m {
+        maxima.select_nth_unstable_by(m - 1, order);
+        let mut top = maxima[..m].to_vec();
+        top.sort_by(order);
+        let out = accept(&top);
+        if out.len() == opts.count {
+            return out;
         }
     }
-    out
+    maxima.sort_by(order);
+    accept(&maxima)
 }
 
 #[cfg(test)]

@@ -163,9 +163,17 @@ impl LikelihoodModel {
     /// frame take the fast path: their eight profiles are built together, lane by lane, from
     /// the centre cell outwards (`g(10 + j + 1) = g(10 + j) q_j`, `q_{j+1} = q_j e^{-2c}`,
     /// likewise to the left), which needs only exponentials of negative arguments
-    /// ([`exp_neg`], branch-free so the lanes vectorise); the rest use the general path.
+    /// ([`exp_neg`], branch-free so the lanes vectorise), then `box_sums` gives each particle's
+    /// `(g_y^T Z g_x, |g_x|^2, |g_y|^2)`; the rest use the general path.
     #[inline(always)]
-    fn log_weights_inline(&self, frame: &Frame, xs: &[f64], ys: &[f64], out: &mut [f64]) {
+    fn log_weights_inline(
+        &self,
+        frame: &Frame,
+        xs: &[f64],
+        ys: &[f64],
+        out: &mut [f64],
+        box_sums: impl Fn(&Frame, usize, usize, &[f64; 21], &[f64; 21]) -> (f64, f64, f64),
+    ) {
         const L: usize = 21;
         let c = 0.5 / (self.blur * self.blur);
         let fast = self.half_box == 10 && c * 121.0 <= 600.0;
@@ -200,24 +208,13 @@ impl LikelihoodModel {
             let gx = centred_profiles::<L>(dx, c, r);
             let gy = centred_profiles::<L>(dy, c, r);
             for l in 0..4 {
-                let i0 = cx[l] as usize - 10;
-                let j0 = cy[l] as usize - 10;
-                let mut acc = [0.0f64; L];
-                for (row_k, g) in gy.iter().enumerate() {
-                    let row: &[f64; L] = frame.data[(j0 + row_k) * frame.width + i0..][..L]
-                        .try_into()
-                        .expect("box inside the frame");
-                    let g = g[l];
-                    for k in 0..L {
-                        acc[k] = g.mul_add(row[k], acc[k]);
-                    }
-                }
-                let (mut hz, mut sx, mut sy) = (0.0, 0.0, 0.0);
-                for k in 0..L {
-                    hz = gx[k][l].mul_add(acc[k], hz);
-                    sx = gx[k][l].mul_add(gx[k][l], sx);
-                    sy = gy[k][l].mul_add(gy[k][l], sy);
-                }
+                let (hz, sx, sy) = box_sums(
+                    frame,
+                    cx[l] as usize - 10,
+                    cy[l] as usize - 10,
+                    &gx[l],
+                    &gy[l],
+                );
                 out[n + l] = (a * hz - 0.5 * a * a * sx * sy) * inv_s2;
             }
             n += 4;
@@ -228,20 +225,25 @@ impl LikelihoodModel {
     }
 
     fn log_weights_scalar(&self, frame: &Frame, xs: &[f64], ys: &[f64], out: &mut [f64]) {
-        self.log_weights_inline(frame, xs, ys, out);
+        self.log_weights_inline(frame, xs, ys, out, box_sums_plain);
     }
 
-    /// The same loop compiled for AVX2 + FMA (chosen at run time when the CPU has them).
+    /// The same loop compiled for AVX2 + FMA (chosen at run time when the CPU has them), with
+    /// the box sums in AVX2 intrinsics.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn log_weights_avx2(&self, frame: &Frame, xs: &[f64], ys: &[f64], out: &mut [f64]) {
-        self.log_weights_inline(frame, xs, ys, out);
+        self.log_weights_inline(frame, xs, ys, out, |f, i0, j0, gx, gy| {
+            // SAFETY: this closure only runs inside this AVX2 + FMA function.
+            unsafe { box_sums_avx2(f, i0, j0, gx, gy) }
+        });
     }
 
     fn log_weights_chunk(&self, frame: &Frame, xs: &[f64], ys: &[f64], out: &mut [f64]) {
         #[cfg(target_arch = "x86_64")]
         {
-            if std::arch::is_x86_feature_detected!("avx2")
+            if std::env::var_os("PF_SCALAR").is_none()
+                && std::arch::is_x86_feature_detected!("avx2")
                 && std::arch::is_x86_feature_detected!("fma")
             {
                 // SAFETY: the CPU supports the features this function was compiled for.
@@ -268,12 +270,12 @@ impl LikelihoodModel {
     }
 }
 
-/// Profiles `g[h + j][l] = exp(-c (d_l + j)^2)`, `j = -h..=h`, `L = 2h + 1`, of four particles
+/// Profiles `g[l][h + j] = exp(-c (d_l + j)^2)`, `j = -h..=h`, `L = 2h + 1`, of four particles
 /// with `|d_l| <= 1/2`, from the centre outwards with `r = exp(-2c)`.
 #[inline(always)]
-fn centred_profiles<const L: usize>(d: [f64; 4], c: f64, r: f64) -> [[f64; 4]; L] {
+fn centred_profiles<const L: usize>(d: [f64; 4], c: f64, r: f64) -> [[f64; L]; 4] {
     let h = L / 2;
-    let mut g = [[0.0f64; 4]; L];
+    let mut g = [[0.0f64; L]; 4];
     let mut mid = [0.0f64; 4];
     let mut qr = [0.0f64; 4];
     let mut ql = [0.0f64; 4];
@@ -281,8 +283,8 @@ fn centred_profiles<const L: usize>(d: [f64; 4], c: f64, r: f64) -> [[f64; 4]; L
         mid[l] = exp_neg(-c * d[l] * d[l]);
         qr[l] = exp_neg(-c * (2.0 * d[l] + 1.0));
         ql[l] = exp_neg(-c * (1.0 - 2.0 * d[l]));
+        g[l][h] = mid[l];
     }
-    g[h] = mid;
     let (mut vr, mut vl) = (mid, mid);
     for j in 1..=h {
         for l in 0..4 {
@@ -290,11 +292,91 @@ fn centred_profiles<const L: usize>(d: [f64; 4], c: f64, r: f64) -> [[f64; 4]; L
             vl[l] *= ql[l];
             qr[l] *= r;
             ql[l] *= r;
+            g[l][h + j] = vr[l];
+            g[l][h - j] = vl[l];
         }
-        g[h + j] = vr;
-        g[h - j] = vl;
     }
     g
+}
+
+/// `(g_y^T Z g_x, |g_x|^2, |g_y|^2)` over the 21 x 21 box at `(i0, j0)`, plain arithmetic.
+#[inline(always)]
+fn box_sums_plain(
+    frame: &Frame,
+    i0: usize,
+    j0: usize,
+    gx: &[f64; 21],
+    gy: &[f64; 21],
+) -> (f64, f64, f64) {
+    let mut acc = [0.0f64; 21];
+    for (r, &g) in gy.iter().enumerate() {
+        let row = &frame.data[(j0 + r) * frame.width + i0..][..21];
+        for (a, &z) in acc.iter_mut().zip(row) {
+            *a += g * z;
+        }
+    }
+    let hz: f64 = gx.iter().zip(&acc).map(|(a, b)| a * b).sum();
+    let sx: f64 = gx.iter().map(|v| v * v).sum();
+    let sy: f64 = gy.iter().map(|v| v * v).sum();
+    (hz, sx, sy)
+}
+
+/// [`box_sums_plain`] with AVX2 + FMA intrinsics: five 4-wide accumulators and one scalar per
+/// row of the box.
+///
+/// # Safety
+/// The CPU must support AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn box_sums_avx2(
+    frame: &Frame,
+    i0: usize,
+    j0: usize,
+    gx: &[f64; 21],
+    gy: &[f64; 21],
+) -> (f64, f64, f64) {
+    use std::arch::x86_64::*;
+    let mut a = [_mm256_setzero_pd(); 5];
+    let mut a20 = 0.0f64;
+    for (r, &g) in gy.iter().enumerate() {
+        let row: &[f64] = &frame.data[(j0 + r) * frame.width + i0..][..21];
+        let p = row.as_ptr();
+        let gv = _mm256_set1_pd(g);
+        for (k, acc) in a.iter_mut().enumerate() {
+            // SAFETY: `row` has 21 elements, so lanes 4k..4k+4 (k < 5) are in bounds.
+            *acc = _mm256_fmadd_pd(gv, unsafe { _mm256_loadu_pd(p.add(4 * k)) }, *acc);
+        }
+        a20 = g.mul_add(row[20], a20);
+    }
+    let px = gx.as_ptr();
+    let py = gy.as_ptr();
+    let mut hz = _mm256_setzero_pd();
+    let mut sx = _mm256_setzero_pd();
+    let mut sy = _mm256_setzero_pd();
+    for (k, acc) in a.iter().enumerate() {
+        // SAFETY: the profiles have 21 elements.
+        let (xv, yv) = unsafe {
+            (
+                _mm256_loadu_pd(px.add(4 * k)),
+                _mm256_loadu_pd(py.add(4 * k)),
+            )
+        };
+        hz = _mm256_fmadd_pd(xv, *acc, hz);
+        sx = _mm256_fmadd_pd(xv, xv, sx);
+        sy = _mm256_fmadd_pd(yv, yv, sy);
+    }
+    let sum = |v: __m256d| {
+        let mut t = [0.0f64; 4];
+        // SAFETY: `t` holds four doubles.
+        unsafe { _mm256_storeu_pd(t.as_mut_ptr(), v) };
+        (t[0] + t[1]) + (t[2] + t[3])
+    };
+    (
+        gx[20].mul_add(a20, sum(hz)),
+        gx[20].mul_add(gx[20], sum(sx)),
+        gy[20].mul_add(gy[20], sum(sy)),
+    )
 }
 
 /// `(g_y^T Z g_x, |g_x|^2, |g_y|^2)` over the `L x L` box at `(i0, j0)`, `u`, `v` the offsets of
@@ -318,15 +400,15 @@ fn separable_sums<const L: usize>(
             .try_into()
             .expect("box inside the frame");
         for k in 0..L {
-            acc[k] = g.mul_add(row[k], acc[k]);
+            acc[k] += g * row[k];
         }
     }
     let mut hz = 0.0;
     let (mut sx, mut sy) = (0.0, 0.0);
     for k in 0..L {
-        hz = gx[k].mul_add(acc[k], hz);
-        sx = gx[k].mul_add(gx[k], sx);
-        sy = gy[k].mul_add(gy[k], sy);
+        hz += gx[k] * acc[k];
+        sx += gx[k] * gx[k];
+        sy += gy[k] * gy[k];
     }
     (hz, sx, sy)
 }
@@ -346,7 +428,7 @@ fn separable_sums_dyn(frame: &Frame, b: [usize; 4], u: f64, v: f64, c: f64) -> (
     for (r, &g) in gy.iter().enumerate() {
         let row = &frame.data[(j0 + r) * frame.width + i0..][..nx];
         for (a, &z) in acc.iter_mut().zip(row) {
-            *a = g.mul_add(z, *a);
+            *a += g * z;
         }
     }
     let hz: f64 = gx.iter().zip(acc.iter()).map(|(a, b)| a * b).sum();
