@@ -55,6 +55,8 @@ PAPER_IC: tuple[tuple[float, float], ...] = (
     (10.0, 2.0),
     (15.0, 3.0),
     (20.0, 4.0),
+    (30.0, 6.0),
+    (40.0, 8.0),
 )
 
 
@@ -552,7 +554,7 @@ def plot_pf_run(result: dict[str, Any], out_dir: str | Path, *, prefix: str = "r
         axes[i, 1].set_ylabel(f"X{i + 1} R [px]")
     axes[0, 1].legend(fontsize=6, ncol=4)
     axes[0, 0].set_title("correct association (1) / incorrect (0)")
-    axes[0, 1].set_title("mean weighted distance to each peak (peaks ranked by intensity)")
+    axes[0, 1].set_title("mean weighted distance R to each peak Zj (by intensity)")
     axes[-1, 0].set_xlabel("time [s]")
     axes[-1, 1].set_xlabel("time [s]")
     fig.suptitle(title)
