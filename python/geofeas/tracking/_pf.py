@@ -437,19 +437,16 @@ def pf_study(
             truth=str(truth),
             snrs=grid,
             ic_snr=_float(ic_snr, "ic_snr"),
-            **{
-                k: v
-                for k, v in _filter_options(
-                    particles,
-                    association,
-                    resampling,
-                    peaks,
-                    min_separation,
-                    smoothing,
-                    sigma_w,
-                    model_factors,
-                ).items()
-            },
+            **_filter_options(
+                particles,
+                association,
+                resampling,
+                peaks,
+                min_separation,
+                smoothing,
+                sigma_w,
+                model_factors,
+            ),
         )
     )
 

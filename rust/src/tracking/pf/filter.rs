@@ -186,6 +186,28 @@ mod tests {
     }
 
     #[test]
+    fn residuals_vanish_with_the_exact_model_and_match_the_noise() {
+        use crate::tracking::pf::frame::Psf;
+        let psf = Psf::default();
+        let model = LikelihoodModel::scaled(&psf, 0.1, [1.0, 1.0, 1.0]);
+        let at = ParticleFilter::new(100, [40.3, 30.6, 0.0, 0.0], 0.0, 0.0, stream(3, 0));
+        let mut clean = Frame::zeros(80, 60);
+        clean.add_psf(40.3, 30.6, &psf);
+        // Particles on the target with the true model explain the noise-free frame exactly.
+        let [m, sd] = at.residual(&clean, &model);
+        assert!(m.abs() < 1e-12 && sd < 1e-6, "{m} {sd}");
+        let f = ParticleFilter::new(5000, [40.3, 30.6, 0.0, 0.0], 1.0, 0.0, stream(3, 0));
+        // Pure noise of sigma 0.5 and no target: mean ~0, sd ~0.5 (cells shared by particles).
+        let noise = Frame::render(80, 60, &[], &psf, 0.5, &mut stream(3, 1));
+        let far = LikelihoodModel {
+            amplitude: 1e-12,
+            ..model
+        };
+        let [m, sd] = f.residual(&noise, &far);
+        assert!(m.abs() < 0.5 && (0.2..0.8).contains(&sd), "{m} {sd}");
+    }
+
+    #[test]
     fn update_is_bayes_and_resampling_resets() {
         let mut f = ParticleFilter::new(4, [0.0; 4], 1.0, 1.0, stream(2, 0));
         let lse = f.update(|_, out| out.copy_from_slice(&[0.0, 1.0f64.ln(), 3.0f64.ln(), -1e9]));
