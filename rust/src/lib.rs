@@ -11,6 +11,8 @@
 //! - [`score::score_pairs`] / [`score::score_cdist`]: the parallel batch drivers shared by all.
 //! - [`tracking::mht`]: multiple-hypothesis trilateration and tracking with distributed radars
 //!   (seed 004), whose Cartesian tracks give AOU ellipses for the scores.
+//! - [`tracking::pf`]: particle-filter tracking of multiple objects on a focal-plane image
+//!   (seed 003), whose estimates give AOU ellipses for the scores.
 //!
 //! The crate has no Python types; the PyO3 bindings live behind the `python` feature.
 //!

@@ -2,7 +2,8 @@
 
 :mod:`geofeas.tracking` holds the multiple-hypothesis trilateration tracker for distributed
 range / range-rate radars (seed 004, van Kleef et al.), with its simulator and the reproduction
-of the paper's Tables 1 and 2.
+of the paper's Tables 1 and 2; and particle-filter tracking of multiple objects on a focal-plane
+image (seed 003, Ohlmeyer and Menon) with the reproduction of its Figs. 6-20 (``pf_*``).
 """
 
 from ._mht import (
@@ -17,6 +18,18 @@ from ._mht import (
     track_ellipses,
     trilaterate,
 )
+from ._pf import (
+    PAPER_IC,
+    PAPER_PCA,
+    pf_ellipses,
+    pf_log_weights,
+    pf_peaks,
+    pf_render,
+    pf_simulate_run,
+    pf_study,
+    pf_track,
+    plot_pf_run,
+)
 
 __all__ = [
     "PAPER_TABLE_1",
@@ -29,4 +42,14 @@ __all__ = [
     "track",
     "track_ellipses",
     "trilaterate",
+    "PAPER_IC",
+    "PAPER_PCA",
+    "pf_ellipses",
+    "pf_log_weights",
+    "pf_peaks",
+    "pf_render",
+    "pf_simulate_run",
+    "pf_study",
+    "pf_track",
+    "plot_pf_run",
 ]

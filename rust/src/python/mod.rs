@@ -5,6 +5,7 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 
 mod mht;
+mod pf;
 mod scores;
 
 pyo3::create_exception!(
@@ -44,5 +45,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("GeofeasError", m.py().get_type::<GeofeasError>())?;
     scores::register(m)?;
     mht::register(m)?;
+    pf::register(m)?;
     Ok(())
 }

@@ -1,0 +1,707 @@
+//! Bindings of the particle-filter focal-plane tracker (`crate::tracking::pf`).
+
+use numpy::{
+    IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3,
+    PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use super::{check_signals, detached};
+use crate::error::{Error, Result};
+use crate::score::monte_carlo::stream;
+use crate::tracking::pf::{
+    find_peaks, peak_label, study, Association, Bank, Cell, Frame, LikelihoodModel, Method, Ncv,
+    Particles, PeakOptions, PfConfig, Psf, Resampling, RunSpec, Scenario, Step, StudyOptions,
+    TruthModel,
+};
+
+/// Filter options shared by the tracking entry points.
+#[derive(Clone, Copy)]
+struct FilterArgs {
+    particles: usize,
+    association: Association,
+    resampling: Resampling,
+    resample_threshold: f64,
+    peaks: PeakOptions,
+    xmax: f64,
+    vmax: f64,
+    sigma_w: f64,
+    r1: f64,
+    factors: [f64; 3],
+    half_box: usize,
+}
+
+impl FilterArgs {
+    fn config(&self, method: Method, psf: &Psf, sigma_z: f64, dt: f64) -> Result<PfConfig> {
+        let base = PfConfig::paper(method, psf, sigma_z);
+        PfConfig {
+            particles: self.particles,
+            association: self.association,
+            resampling: self.resampling,
+            resample_threshold: self.resample_threshold,
+            peaks: self.peaks,
+            xmax: self.xmax,
+            vmax: self.vmax,
+            r1: self.r1,
+            motion: Ncv {
+                dt,
+                sigma_w: self.sigma_w,
+            },
+            model: LikelihoodModel {
+                half_box: self.half_box,
+                ..LikelihoodModel::scaled(psf, sigma_z, self.factors)
+            },
+            ..base
+        }
+        .validated()
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn filter_args(
+    particles: usize,
+    association: &str,
+    resampling: &str,
+    resample_threshold: f64,
+    peaks: usize,
+    min_separation: f64,
+    smoothing: f64,
+    xmax: f64,
+    vmax: f64,
+    sigma_w: f64,
+    r1: f64,
+    model_factors: (f64, f64, f64),
+    half_box: usize,
+) -> Result<FilterArgs> {
+    Ok(FilterArgs {
+        particles,
+        association: Association::from_name(association)?,
+        resampling: Resampling::from_name(resampling)?,
+        resample_threshold,
+        peaks: PeakOptions {
+            count: peaks,
+            min_separation,
+            smoothing,
+        }
+        .validated()?,
+        xmax,
+        vmax,
+        sigma_w,
+        r1,
+        factors: [model_factors.0, model_factors.1, model_factors.2],
+        half_box,
+    })
+}
+
+fn method_of(n: u32) -> Result<Method> {
+    Method::from_number(n)
+}
+
+fn truth_model(name: &str) -> Result<TruthModel> {
+    match name {
+        "white" => Ok(TruthModel::White {
+            sigma_l: 0.5,
+            sigma_n: 1.0,
+        }),
+        "jerk" => Ok(TruthModel::Jerk {
+            sigma_l: 0.5,
+            sigma_n: 1.0,
+        }),
+        "gauss-markov" => Ok(TruthModel::GaussMarkov {
+            sigma_l: 0.5,
+            sigma_n: 1.0,
+            tau: 1.0,
+        }),
+        "ncv" => Ok(TruthModel::Ncv { sigma_w: 0.5 }),
+        other => Err(Error::InvalidOption {
+            name: "truth",
+            reason: format!("expected 'white', 'jerk', 'gauss-markov' or 'ncv', got '{other}'"),
+        }),
+    }
+}
+
+fn frame_from(what: &'static str, arr: &PyReadonlyArray2<'_, f64>) -> Result<Frame> {
+    let shape = arr.shape();
+    let data = arr
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("{what}: {e}")))?;
+    Frame::new(shape[1], shape[0], data.to_vec())
+}
+
+/// Per-frame outputs of a bank, as flat arrays.
+#[derive(Default)]
+struct Recorder {
+    filters: usize,
+    k: usize,
+    est: Vec<f64>,
+    cov: Vec<f64>,
+    peaks: Vec<f64>,
+    peak: Vec<i64>,
+    dist: Vec<f64>,
+    resid: Vec<f64>,
+    ess: Vec<f64>,
+    frames: usize,
+}
+
+impl Recorder {
+    fn new(filters: usize, k: usize) -> Self {
+        Self {
+            filters,
+            k,
+            ..Self::default()
+        }
+    }
+
+    fn push(&mut self, step: &Step) {
+        self.frames += 1;
+        for j in 0..self.k {
+            match step.peaks.get(j) {
+                Some(p) => self.peaks.extend_from_slice(&[p.x, p.y, p.value]),
+                None => self.peaks.extend_from_slice(&[f64::NAN; 3]),
+            }
+        }
+        for r in &step.filters {
+            self.est.extend_from_slice(&r.estimate.mean);
+            for row in &r.estimate.cov {
+                self.cov.extend_from_slice(row);
+            }
+            self.peak.push(r.peak.map_or(-1, |j| j as i64));
+            for j in 0..self.k {
+                self.dist
+                    .push(r.distances.get(j).copied().unwrap_or(f64::NAN));
+            }
+            self.resid.extend_from_slice(&r.residual);
+            self.ess.push(r.ess);
+        }
+    }
+
+    fn into_dict<'py>(self, py: Python<'py>, out: &Bound<'py, PyDict>) -> PyResult<()> {
+        let (f, t, k) = (self.frames, self.filters, self.k);
+        out.set_item("estimates", self.est.into_pyarray(py).reshape([f, t, 4])?)?;
+        out.set_item(
+            "covariances",
+            self.cov.into_pyarray(py).reshape([f, t, 4, 4])?,
+        )?;
+        out.set_item("peaks", self.peaks.into_pyarray(py).reshape([f, k, 3])?)?;
+        out.set_item("peak", self.peak.into_pyarray(py).reshape([f, t])?)?;
+        out.set_item("distances", self.dist.into_pyarray(py).reshape([f, t, k])?)?;
+        out.set_item("residuals", self.resid.into_pyarray(py).reshape([f, t, 2])?)?;
+        out.set_item("ess", self.ess.into_pyarray(py).reshape([f, t])?)?;
+        Ok(())
+    }
+}
+
+/// Simulates one run of the paper's scenario at `snr_db` and tracks it.
+#[pyfunction]
+#[pyo3(signature = (*, snr_db=15.0, method=2, seed=0, run=0, truth="white", particles=10000, association="nearest", resampling="systematic", resample_threshold=1.0, peaks=4, min_separation=3.0, smoothing=0.0, xmax=3.0, vmax=0.5, sigma_w=0.5, r1=1.0, model_factors=(0.8, 1.5, 1.5), half_box=10, snapshot_frames=vec![], snapshot_particles=300, keep_frames=vec![]))]
+#[allow(clippy::too_many_arguments)]
+fn pf_simulate_run<'py>(
+    py: Python<'py>,
+    snr_db: f64,
+    method: u32,
+    seed: u64,
+    run: u64,
+    truth: &str,
+    particles: usize,
+    association: &str,
+    resampling: &str,
+    resample_threshold: f64,
+    peaks: usize,
+    min_separation: f64,
+    smoothing: f64,
+    xmax: f64,
+    vmax: f64,
+    sigma_w: f64,
+    r1: f64,
+    model_factors: (f64, f64, f64),
+    half_box: usize,
+    snapshot_frames: Vec<usize>,
+    snapshot_particles: usize,
+    keep_frames: Vec<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let args = filter_args(
+        particles,
+        association,
+        resampling,
+        resample_threshold,
+        peaks,
+        min_separation,
+        smoothing,
+        xmax,
+        vmax,
+        sigma_w,
+        r1,
+        model_factors,
+        half_box,
+    )?;
+    let spec = RunSpec {
+        scenario: Scenario {
+            model: truth_model(truth)?,
+            ..Scenario::paper()
+        },
+        ..RunSpec::paper(snr_db, seed, run)
+    }
+    .validated()?;
+    let cfg = args.config(
+        method_of(method)?,
+        &spec.psf,
+        spec.sigma_z(),
+        spec.scenario.dt,
+    )?;
+    let n_frames = spec.scenario.frames();
+    for &k in snapshot_frames.iter().chain(&keep_frames) {
+        if k >= n_frames {
+            return Err(Error::InvalidOption {
+                name: "snapshot_frames / keep_frames",
+                reason: format!("frame {k} is not in 0..{n_frames}"),
+            }
+            .into());
+        }
+    }
+    let targets = spec.scenario.starts.len();
+    let (width, height, dt, sigma_z) = (
+        spec.scenario.width,
+        spec.scenario.height,
+        spec.scenario.dt,
+        spec.sigma_z(),
+    );
+    let (rec, truth_rows, correct, snaps, kept) = detached(py, move || {
+        let truth = spec.truth();
+        let init: Vec<[f64; 4]> = truth.states[0].iter().map(|s| s.xv()).collect();
+        let mut bank = Bank::new(&init, cfg, spec.filter_seed())?;
+        let mut rec = Recorder::new(targets, cfg.peaks.count);
+        let mut correct = Vec::with_capacity(n_frames * targets);
+        let mut snaps = Vec::new();
+        let mut kept = Vec::new();
+        for k in 0..n_frames {
+            if k % 10 == 0 && check_signals() {
+                return Err(Error::Interrupted);
+            }
+            let frame = spec.frame(&truth, k);
+            // Particles before this frame's resampling are the prior cloud; the cloud after it
+            // is the equally weighted posterior, which the snapshot shows.
+            let step = bank.step(&frame);
+            for (i, r) in step.filters.iter().enumerate() {
+                let ok = r
+                    .peak
+                    .is_some_and(|j| peak_label(&step.peaks[j], &truth.states[k]) == Some(i));
+                correct.push(ok);
+            }
+            rec.push(&step);
+            if snapshot_frames.contains(&k) {
+                for i in 0..targets {
+                    let p: &Particles = bank.particles(i);
+                    let m = snapshot_particles.min(p.len()).max(1);
+                    let stride = (p.len() / m).max(1);
+                    for n in (0..p.len()).step_by(stride).take(m) {
+                        snaps.extend_from_slice(&[k as f64, i as f64, p.x[n], p.y[n]]);
+                    }
+                }
+            }
+            if keep_frames.contains(&k) {
+                kept.extend_from_slice(&frame.data);
+            }
+        }
+        let mut rows = Vec::with_capacity(n_frames * targets * 8);
+        for row in &truth.states {
+            for s in row {
+                rows.extend_from_slice(&[s.x, s.y, s.vx, s.vy, s.speed, s.heading, s.a_l, s.a_n]);
+            }
+        }
+        Ok((rec, rows, correct, snaps, kept))
+    })?;
+    let out = PyDict::new(py);
+    let f = rec.frames;
+    rec.into_dict(py, &out)?;
+    out.set_item(
+        "truth",
+        truth_rows.into_pyarray(py).reshape([f, targets, 8])?,
+    )?;
+    out.set_item("correct", correct.into_pyarray(py).reshape([f, targets])?)?;
+    let ns = snaps.len() / 4;
+    out.set_item("snapshots", snaps.into_pyarray(py).reshape([ns, 4])?)?;
+    let nk = kept.len() / (width * height);
+    out.set_item(
+        "frames",
+        kept.into_pyarray(py).reshape([nk, height, width])?,
+    )?;
+    out.set_item("sigma_z", sigma_z)?;
+    out.set_item("dt", dt)?;
+    Ok(out)
+}
+
+/// Tracks user frames `(F, H, W)` with one filter per row of `init` (`x, y, vx, vy`).
+#[pyfunction]
+#[pyo3(signature = (frames, init, *, sigma_z, method=2, amplitude=1.0, blur=2.0, dt=0.1, seed=0, particles=10000, association="nearest", resampling="systematic", resample_threshold=1.0, peaks=4, min_separation=3.0, smoothing=0.0, xmax=3.0, vmax=0.5, sigma_w=0.5, r1=1.0, model_factors=(0.8, 1.5, 1.5), half_box=10))]
+#[allow(clippy::too_many_arguments)]
+fn pf_track<'py>(
+    py: Python<'py>,
+    frames: PyReadonlyArray3<'py, f64>,
+    init: PyReadonlyArray2<'py, f64>,
+    sigma_z: f64,
+    method: u32,
+    amplitude: f64,
+    blur: f64,
+    dt: f64,
+    seed: u64,
+    particles: usize,
+    association: &str,
+    resampling: &str,
+    resample_threshold: f64,
+    peaks: usize,
+    min_separation: f64,
+    smoothing: f64,
+    xmax: f64,
+    vmax: f64,
+    sigma_w: f64,
+    r1: f64,
+    model_factors: (f64, f64, f64),
+    half_box: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let args = filter_args(
+        particles,
+        association,
+        resampling,
+        resample_threshold,
+        peaks,
+        min_separation,
+        smoothing,
+        xmax,
+        vmax,
+        sigma_w,
+        r1,
+        model_factors,
+        half_box,
+    )?;
+    let psf = Psf { amplitude, blur }.validated("psf")?;
+    if !(sigma_z.is_finite() && sigma_z > 0.0) {
+        return Err(Error::InvalidOption {
+            name: "sigma_z",
+            reason: format!("must be finite and > 0, got {sigma_z}"),
+        }
+        .into());
+    }
+    let cfg = args.config(method_of(method)?, &psf, sigma_z, dt)?;
+    let shape = frames.shape().to_vec();
+    let (h, w) = (shape[1], shape[2]);
+    if h == 0 || w == 0 {
+        return Err(Error::Shape {
+            what: "frames",
+            expected: "(F, H, W) with H, W >= 1".into(),
+            got: format!("{shape:?}"),
+        }
+        .into());
+    }
+    let data = frames
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("frames: {e}")))?;
+    if let Some(k) = data.iter().position(|v| !v.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "frames: value at frame {} row {} column {} is not finite ({})",
+            k / (h * w),
+            (k / w) % h,
+            k % w,
+            data[k]
+        ))
+        .into());
+    }
+    let ishape = init.shape();
+    if ishape[1] != 4 {
+        return Err(Error::Shape {
+            what: "init",
+            expected: "(n, 4) with columns x, y, vx, vy".into(),
+            got: format!("{ishape:?}"),
+        }
+        .into());
+    }
+    let flat = init
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("init: {e}")))?;
+    let init: Vec<[f64; 4]> = flat
+        .chunks_exact(4)
+        .map(|r| [r[0], r[1], r[2], r[3]])
+        .collect();
+    let targets = init.len();
+    let rec = detached(py, move || {
+        let mut bank = Bank::new(&init, cfg, seed)?;
+        let mut rec = Recorder::new(targets, cfg.peaks.count);
+        for (k, chunk) in data.chunks_exact(h * w).enumerate() {
+            if k % 10 == 0 && check_signals() {
+                return Err(Error::Interrupted);
+            }
+            let frame = Frame {
+                width: w,
+                height: h,
+                data: chunk.to_vec(),
+            };
+            rec.push(&bank.step(&frame));
+        }
+        Ok(rec)
+    })?;
+    let out = PyDict::new(py);
+    rec.into_dict(py, &out)?;
+    Ok(out)
+}
+
+/// Method 2 log weights of particles `xy` `(N, 2)` on `frame` `(H, W)` with the filter model
+/// `(amplitude, blur, sigma, half_box)`.
+#[pyfunction]
+#[pyo3(signature = (frame, xy, *, amplitude, blur, sigma, half_box=10))]
+fn pf_log_weights<'py>(
+    py: Python<'py>,
+    frame: PyReadonlyArray2<'py, f64>,
+    xy: PyReadonlyArray2<'py, f64>,
+    amplitude: f64,
+    blur: f64,
+    sigma: f64,
+    half_box: usize,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let f = frame_from("frame", &frame)?;
+    let model = LikelihoodModel {
+        amplitude,
+        blur,
+        sigma,
+        half_box,
+    }
+    .validated()?;
+    let shape = xy.shape();
+    if shape[1] != 2 {
+        return Err(Error::Shape {
+            what: "xy",
+            expected: "(n, 2)".into(),
+            got: format!("{shape:?}"),
+        }
+        .into());
+    }
+    let flat = xy
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("xy: {e}")))?;
+    if let Some(k) = flat.iter().position(|v| !v.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "xy row {}: field '{}' is not finite ({})",
+            k / 2,
+            ["x", "y"][k % 2],
+            flat[k]
+        ))
+        .into());
+    }
+    let p = Particles {
+        x: flat.iter().step_by(2).copied().collect(),
+        y: flat.iter().skip(1).step_by(2).copied().collect(),
+        vx: vec![0.0; flat.len() / 2],
+        vy: vec![0.0; flat.len() / 2],
+    };
+    let out = detached(py, move || {
+        let mut out = vec![0.0; p.len()];
+        model.log_weights(&f, &p, &mut out, true);
+        Ok(out)
+    })?;
+    Ok(out.into_pyarray(py))
+}
+
+/// Peaks `(K, 3)` rows `[x, y, value]` of `frame`, strongest first.
+#[pyfunction]
+#[pyo3(signature = (frame, *, count=4, min_separation=3.0, smoothing=0.0))]
+fn pf_peaks<'py>(
+    py: Python<'py>,
+    frame: PyReadonlyArray2<'py, f64>,
+    count: usize,
+    min_separation: f64,
+    smoothing: f64,
+) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+    let f = frame_from("frame", &frame)?;
+    let opts = PeakOptions {
+        count,
+        min_separation,
+        smoothing,
+    }
+    .validated()?;
+    let peaks = detached(py, move || Ok(find_peaks(&f, &opts)))?;
+    let flat: Vec<f64> = peaks.iter().flat_map(|p| [p.x, p.y, p.value]).collect();
+    flat.into_pyarray(py).reshape([peaks.len(), 3])
+}
+
+/// A simulated frame `(height, width)` of point spreads at `positions` `(T, 2)` plus noise.
+#[pyfunction]
+#[pyo3(signature = (positions, *, width=256, height=256, amplitude=1.0, blur=2.0, sigma=0.1, seed=0))]
+#[allow(clippy::too_many_arguments)]
+fn pf_render<'py>(
+    py: Python<'py>,
+    positions: PyReadonlyArray2<'py, f64>,
+    width: usize,
+    height: usize,
+    amplitude: f64,
+    blur: f64,
+    sigma: f64,
+    seed: u64,
+) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+    let psf = Psf { amplitude, blur }.validated("psf")?;
+    if !(sigma.is_finite() && sigma >= 0.0) {
+        return Err(Error::InvalidOption {
+            name: "sigma",
+            reason: format!("must be finite and >= 0, got {sigma}"),
+        }
+        .into());
+    }
+    if width == 0 || height == 0 || width * height > 1 << 26 {
+        return Err(Error::InvalidOption {
+            name: "width / height",
+            reason: format!("must be >= 1 and at most 2^26 cells, got {width} x {height}"),
+        }
+        .into());
+    }
+    let shape = positions.shape();
+    if shape[1] != 2 {
+        return Err(Error::Shape {
+            what: "positions",
+            expected: "(n, 2)".into(),
+            got: format!("{shape:?}"),
+        }
+        .into());
+    }
+    let flat = positions
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("positions: {e}")))?;
+    if let Some(k) = flat.iter().position(|v| !v.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "positions row {}: field '{}' is not finite ({})",
+            k / 2,
+            ["x", "y"][k % 2],
+            flat[k]
+        ))
+        .into());
+    }
+    let pos: Vec<[f64; 2]> = flat.chunks_exact(2).map(|r| [r[0], r[1]]).collect();
+    let f = detached(py, move || {
+        Ok(Frame::render(
+            width,
+            height,
+            &pos,
+            &psf,
+            sigma,
+            &mut stream(seed, 0),
+        ))
+    })?;
+    f.data.into_pyarray(py).reshape([height, width])
+}
+
+/// The Monte-Carlo study: PCA / errors against SNR (`snrs`, default 0..=20 dB) for both methods,
+/// and Method 2's initial-condition sensitivity at `ic_snr` for the `(xmax, vmax)` rows of `ic`.
+#[pyfunction]
+#[pyo3(signature = (ic, *, runs=4, seed=0, truth="white", particles=10000, association="nearest", resampling="systematic", peaks=4, min_separation=3.0, smoothing=0.0, sigma_w=0.5, model_factors=(0.8, 1.5, 1.5), snrs=None, ic_snr=2.0))]
+#[allow(clippy::too_many_arguments)]
+fn pf_study<'py>(
+    py: Python<'py>,
+    ic: PyReadonlyArray2<'py, f64>,
+    runs: usize,
+    seed: u64,
+    truth: &str,
+    particles: usize,
+    association: &str,
+    resampling: &str,
+    peaks: usize,
+    min_separation: f64,
+    smoothing: f64,
+    sigma_w: f64,
+    model_factors: (f64, f64, f64),
+    snrs: Option<Vec<f64>>,
+    ic_snr: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let shape = ic.shape();
+    if shape[1] != 2 {
+        return Err(Error::Shape {
+            what: "ic",
+            expected: "(n, 2) with columns xmax, vmax".into(),
+            got: format!("{shape:?}"),
+        }
+        .into());
+    }
+    let flat = ic
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("ic: {e}")))?;
+    let ic: Vec<(f64, f64)> = flat.chunks_exact(2).map(|r| (r[0], r[1])).collect();
+    let grid = snrs.unwrap_or_else(|| (0..=20).map(f64::from).collect());
+    let mut cells: Vec<Cell> = Vec::new();
+    for method in [Method::PeakDistance, Method::LikelihoodRatio] {
+        for &snr_db in &grid {
+            cells.push(Cell {
+                method,
+                snr_db,
+                xmax: 3.0,
+                vmax: 0.5,
+            });
+        }
+    }
+    for &(xmax, vmax) in &ic {
+        cells.push(Cell {
+            method: Method::LikelihoodRatio,
+            snr_db: ic_snr,
+            xmax,
+            vmax,
+        });
+    }
+    let opts = StudyOptions {
+        runs,
+        seed,
+        particles,
+        association: Association::from_name(association)?,
+        resampling: Resampling::from_name(resampling)?,
+        peaks: PeakOptions {
+            count: peaks,
+            min_separation,
+            smoothing,
+        }
+        .validated()?,
+        model_factors: [model_factors.0, model_factors.1, model_factors.2],
+        sigma_w,
+        scenario: Scenario {
+            model: truth_model(truth)?,
+            ..Scenario::paper()
+        },
+    };
+    let rows = detached(py, || study(&cells, &opts, &mut check_signals))?;
+    let n = rows.len();
+    let t = opts.scenario.starts.len();
+    let col = |f: &dyn Fn(&crate::tracking::pf::CellResult) -> f64| -> Vec<f64> {
+        rows.iter().map(f).collect()
+    };
+    let out = PyDict::new(py);
+    out.set_item(
+        "method",
+        rows.iter()
+            .map(|r| r.cell.method.number() as i64)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    out.set_item("snr_db", col(&|r| r.cell.snr_db).into_pyarray(py))?;
+    out.set_item("xmax", col(&|r| r.cell.xmax).into_pyarray(py))?;
+    out.set_item("vmax", col(&|r| r.cell.vmax).into_pyarray(py))?;
+    out.set_item("pca", col(&|r| r.all.pca).into_pyarray(py))?;
+    out.set_item("hit", col(&|r| r.all.hit).into_pyarray(py))?;
+    out.set_item("rmse_px", col(&|r| r.all.rmse).into_pyarray(py))?;
+    out.set_item("coverage", col(&|r| r.all.coverage).into_pyarray(py))?;
+    out.set_item("held", col(&|r| r.all.held).into_pyarray(py))?;
+    let per = |f: &dyn Fn(&crate::tracking::pf::FilterMetrics) -> f64| -> Vec<f64> {
+        rows.iter().flat_map(|r| r.filters.iter().map(f)).collect()
+    };
+    out.set_item(
+        "filter_pca",
+        per(&|m| m.pca).into_pyarray(py).reshape([n, t])?,
+    )?;
+    out.set_item(
+        "filter_rmse_px",
+        per(&|m| m.rmse).into_pyarray(py).reshape([n, t])?,
+    )?;
+    Ok(out)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(pf_simulate_run, m)?)?;
+    m.add_function(wrap_pyfunction!(pf_track, m)?)?;
+    m.add_function(wrap_pyfunction!(pf_log_weights, m)?)?;
+    m.add_function(wrap_pyfunction!(pf_peaks, m)?)?;
+    m.add_function(wrap_pyfunction!(pf_render, m)?)?;
+    m.add_function(wrap_pyfunction!(pf_study, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,197 @@
+//! Scores of a tracked run against the truth (seed 003, Figs. 7-8, 10-11, 14-15, 17-20).
+//!
+//! - Position error of filter `i` at frame `k`: `|(x_hat, y_hat) - (x, y)|` to its own target
+//!   `i` (filter `i` is initialised about target `i`); RMSE over frames (and runs).
+//! - Correct association: the peak filter `i` took is labelled by the true target nearest to it
+//!   at that frame; the association is correct when that label is `i`. The probability of
+//!   correct association (PCA) is the fraction of correct frames. When noise maxima outrank the
+//!   targets, peaks are scattered over the array and the label is close to chance (about 1/4
+//!   with four targets), which is the floor of the paper's Fig. 19.
+//! - Hit: stricter, the peak is also within `HIT_RADIUS` (3 pixels) of the filter's own
+//!   target, i.e. it is that target's image rather than a noise maximum; its floor is 0.
+//! - 2-sigma coverage: the fraction of (frame, axis) pairs with `|error| <= 2 sqrt(P)`; about
+//!   0.954 for a consistent filter.
+//! - Held track: the error stays below `hold_radius` (5 pixels) over the last `hold_frames`
+//!   (10) frames; the fraction of held tracks is the acceptance measure of the
+//!   initial-condition study (Fig. 20).
+
+use crate::tracking::pf::bank::Step;
+use crate::tracking::pf::peaks::Peak;
+use crate::tracking::pf::scenario::TruthState;
+
+/// Largest distance from a peak to its target for a hit, pixels.
+pub const HIT_RADIUS: f64 = 3.0;
+/// Radius of a held track, pixels.
+pub const HOLD_RADIUS: f64 = 5.0;
+/// Frames at the end over which a track must be held.
+pub const HOLD_FRAMES: usize = 10;
+
+/// The true target nearest to `peak`.
+pub fn peak_label(peak: &Peak, truth: &[TruthState]) -> Option<usize> {
+    truth
+        .iter()
+        .enumerate()
+        .map(|(t, s)| (t, (s.x - peak.x).powi(2) + (s.y - peak.y).powi(2)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(t, _)| t)
+}
+
+/// Sums for one filter; add runs with [`FilterTally::merge`].
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FilterTally {
+    /// Frames scored.
+    pub frames: usize,
+    /// Frames with a correct association.
+    pub correct: usize,
+    /// Frames with a hit (correct and within [`HIT_RADIUS`] of the target).
+    pub hits: usize,
+    /// Sum of squared position errors.
+    pub sq_err: f64,
+    /// (frame, axis) pairs inside the 2-sigma bound.
+    pub covered: usize,
+    /// Tracks (runs) scored for holding.
+    pub tracks: usize,
+    /// Tracks held.
+    pub held: usize,
+    errors: Vec<f64>,
+}
+
+impl FilterTally {
+    /// Scores filter `i` at one frame.
+    pub fn observe(&mut self, i: usize, step: &Step, truth: &[TruthState]) {
+        let r = &step.filters[i];
+        let s = &truth[i];
+        let (ex, ey) = (r.estimate.mean[0] - s.x, r.estimate.mean[1] - s.y);
+        let [bx, by] = r.estimate.two_sigma();
+        self.frames += 1;
+        self.sq_err += ex * ex + ey * ey;
+        self.covered += (ex.abs() <= bx) as usize + (ey.abs() <= by) as usize;
+        if let Some(j) = r.peak {
+            let pk = &step.peaks[j];
+            if peak_label(pk, truth) == Some(i) {
+                self.correct += 1;
+                if (pk.x - s.x).hypot(pk.y - s.y) <= HIT_RADIUS {
+                    self.hits += 1;
+                }
+            }
+        }
+        self.errors.push(ex.hypot(ey));
+    }
+
+    /// Closes the run: scores whether the track is held at the end.
+    pub fn finish_run(&mut self) {
+        if !self.errors.is_empty() {
+            let tail = &self.errors[self.errors.len().saturating_sub(HOLD_FRAMES)..];
+            self.tracks += 1;
+            self.held += tail.iter().all(|&e| e < HOLD_RADIUS) as usize;
+            self.errors.clear();
+        }
+    }
+
+    /// Adds another tally.
+    pub fn merge(&mut self, o: &FilterTally) {
+        self.frames += o.frames;
+        self.correct += o.correct;
+        self.hits += o.hits;
+        self.sq_err += o.sq_err;
+        self.covered += o.covered;
+        self.tracks += o.tracks;
+        self.held += o.held;
+    }
+
+    /// The metrics.
+    pub fn metrics(&self) -> FilterMetrics {
+        let f = self.frames.max(1) as f64;
+        FilterMetrics {
+            pca: self.correct as f64 / f,
+            hit: self.hits as f64 / f,
+            rmse: (self.sq_err / f).sqrt(),
+            coverage: self.covered as f64 / (2.0 * f),
+            held: self.held as f64 / self.tracks.max(1) as f64,
+        }
+    }
+}
+
+/// Metrics of one filter (or pooled over filters).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilterMetrics {
+    /// Probability of correct association.
+    pub pca: f64,
+    /// Probability that the filter took its own target's image.
+    pub hit: f64,
+    /// Position RMSE, pixels.
+    pub rmse: f64,
+    /// Fraction of (frame, axis) errors inside 2 sigma.
+    pub coverage: f64,
+    /// Fraction of held tracks.
+    pub held: f64,
+}
+
+/// Pools the tallies of several filters.
+pub fn pooled(tallies: &[FilterTally]) -> FilterTally {
+    let mut t = FilterTally::default();
+    for x in tallies {
+        t.merge(x);
+    }
+    t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tracking::pf::bank::StepRecord;
+    use crate::tracking::pf::filter::Estimate;
+
+    fn state(x: f64, y: f64) -> TruthState {
+        TruthState {
+            x,
+            y,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn tally_of_a_known_step() {
+        let mut cov = [[0.0; 4]; 4];
+        cov[0][0] = 0.25; // 2 sigma = 1
+        cov[1][1] = 1.0; // 2 sigma = 2
+        let rec = |x: f64, y: f64, peak| StepRecord {
+            estimate: Estimate {
+                mean: [x, y, 0.0, 0.0],
+                cov,
+            },
+            peak,
+            distances: vec![],
+            residual: [0.0; 2],
+            ess: 1.0,
+        };
+        let step = Step {
+            peaks: vec![
+                Peak {
+                    x: 10.0,
+                    y: 10.0,
+                    value: 1.0,
+                },
+                Peak {
+                    x: 0.0,
+                    y: 1.0,
+                    value: 1.0,
+                },
+            ],
+            filters: vec![rec(1.5, 0.0, Some(1)), rec(9.0, 11.0, Some(1))],
+        };
+        let truth = [state(0.0, 0.0), state(10.0, 10.0)];
+        let mut t0 = FilterTally::default();
+        let mut t1 = FilterTally::default();
+        t0.observe(0, &step, &truth);
+        t1.observe(1, &step, &truth);
+        assert_eq!((t0.correct, t1.correct), (1, 0));
+        assert_eq!(t0.hits, 1);
+        assert_eq!((t0.covered, t1.covered), (1, 2));
+        assert!((t0.sq_err - 2.25).abs() < 1e-15);
+        t0.finish_run();
+        let m = pooled(&[t0, t1]).metrics();
+        assert!((m.pca - 0.5).abs() < 1e-15 && (m.coverage - 0.75).abs() < 1e-15);
+        assert_eq!(m.held, 1.0);
+    }
+}

@@ -1,0 +1,273 @@
+//! Monte-Carlo reproduction of seed 003's studies: tracking errors at 2, 6 and 15 dB
+//! (Figs. 7, 10, 14, 17), the probability of correct association against SNR for both methods
+//! (Fig. 19) and the sensitivity of Method 2 to the initial uncertainty at 2 dB (Fig. 20).
+//!
+//! A [`Cell`] is one (method, SNR, `X_max`, `V_max`) configuration. Cells that share SNR and
+//! initialisation are run together on the same frames ([`crate::tracking::pf::run`]: common
+//! truth, noise and initial particles for every SNR and method of a run). Runs are spread over
+//! threads with rayon (the filters inside a run then stay sequential); tallies are merged in run
+//! order, so the results do not depend on the thread count.
+
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::tracking::pf::association::Association;
+use crate::tracking::pf::bank::{Method, PfConfig};
+use crate::tracking::pf::metrics::{pooled, FilterMetrics, FilterTally};
+use crate::tracking::pf::peaks::PeakOptions;
+use crate::tracking::pf::resample::Resampling;
+use crate::tracking::pf::run::{track_run, RunSpec};
+use crate::tracking::pf::scenario::Scenario;
+use crate::tracking::pf::weights::LikelihoodModel;
+
+/// One configuration of the study.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cell {
+    /// Weighting method.
+    pub method: Method,
+    /// SNR, dB.
+    pub snr_db: f64,
+    /// Position initialisation half-width, pixels.
+    pub xmax: f64,
+    /// Velocity initialisation half-width, pixels/s.
+    pub vmax: f64,
+}
+
+/// Options shared by every cell.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StudyOptions {
+    /// Monte-Carlo runs per cell.
+    pub runs: usize,
+    /// Seed.
+    pub seed: u64,
+    /// Particles per filter (paper: 10,000).
+    pub particles: usize,
+    /// Association rule.
+    pub association: Association,
+    /// Resampling scheme.
+    pub resampling: Resampling,
+    /// Peak extraction.
+    pub peaks: PeakOptions,
+    /// Method 2 model factors `[amplitude, blur, sigma]` (paper: 0.8, 1.5, 1.5).
+    pub model_factors: [f64; 3],
+    /// Filter process noise, pixels/s^2 (paper: 0.5).
+    pub sigma_w: f64,
+    /// The scenario.
+    pub scenario: Scenario,
+}
+
+impl Default for StudyOptions {
+    fn default() -> Self {
+        Self {
+            runs: 10,
+            seed: 0,
+            particles: 10_000,
+            association: Association::Nearest,
+            resampling: Resampling::Systematic,
+            peaks: PeakOptions::default(),
+            model_factors: [0.8, 1.5, 1.5],
+            sigma_w: 0.5,
+            scenario: Scenario::paper(),
+        }
+    }
+}
+
+/// The results of one cell.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellResult {
+    /// The cell.
+    pub cell: Cell,
+    /// Pooled over the filters.
+    pub all: FilterMetrics,
+    /// Per filter.
+    pub filters: Vec<FilterMetrics>,
+}
+
+/// The paper's cells: both methods at 0, 1, ..., 20 dB with `X_max = 3`, `V_max = 0.5`, and
+/// Method 2 at 2 dB for `(X_max, V_max)` in `ic`.
+pub fn paper_cells(ic: &[(f64, f64)]) -> Vec<Cell> {
+    let mut cells = Vec::new();
+    for method in [Method::PeakDistance, Method::LikelihoodRatio] {
+        for snr in 0..=20 {
+            cells.push(Cell {
+                method,
+                snr_db: snr as f64,
+                xmax: 3.0,
+                vmax: 0.5,
+            });
+        }
+    }
+    for &(xmax, vmax) in ic {
+        cells.push(Cell {
+            method: Method::LikelihoodRatio,
+            snr_db: 2.0,
+            xmax,
+            vmax,
+        });
+    }
+    cells
+}
+
+/// The bank configuration of `cell`.
+pub fn cell_config(cell: &Cell, spec: &RunSpec, opts: &StudyOptions) -> PfConfig {
+    let base = PfConfig::paper(cell.method, &spec.psf, spec.sigma_z());
+    PfConfig {
+        particles: opts.particles,
+        association: opts.association,
+        resampling: opts.resampling,
+        peaks: opts.peaks,
+        model: LikelihoodModel::scaled(&spec.psf, spec.sigma_z(), opts.model_factors),
+        xmax: cell.xmax,
+        vmax: cell.vmax,
+        motion: crate::tracking::pf::motion::Ncv {
+            sigma_w: opts.sigma_w,
+            ..base.motion
+        },
+        parallel: false,
+        residuals: false,
+        ..base
+    }
+}
+
+/// Runs the study and returns one result per cell, in the order of `cells`; `interrupt` is
+/// polled between batches of runs.
+pub fn study(
+    cells: &[Cell],
+    opts: &StudyOptions,
+    interrupt: &mut dyn FnMut() -> bool,
+) -> Result<Vec<CellResult>> {
+    if opts.runs == 0 {
+        return Err(Error::InvalidOption {
+            name: "runs",
+            reason: "must be >= 1".into(),
+        });
+    }
+    let targets = opts.scenario.starts.len();
+    // Cells sharing (snr, xmax, vmax) run on the same frames.
+    let mut groups: Vec<(f64, f64, f64, Vec<usize>)> = Vec::new();
+    for (c, cell) in cells.iter().enumerate() {
+        for (name, v) in [
+            ("snr_db", cell.snr_db),
+            ("xmax", cell.xmax),
+            ("vmax", cell.vmax),
+        ] {
+            if !v.is_finite() {
+                return Err(Error::InvalidOption {
+                    name,
+                    reason: format!("cell {c}: must be finite, got {v}"),
+                });
+            }
+        }
+        let key = (cell.snr_db, cell.xmax, cell.vmax);
+        match groups.iter_mut().find(|g| (g.0, g.1, g.2) == key) {
+            Some(g) => g.3.push(c),
+            None => groups.push((key.0, key.1, key.2, vec![c])),
+        }
+    }
+    // Validate every configuration once, up front.
+    for g in &groups {
+        let spec = RunSpec {
+            scenario: opts.scenario.clone(),
+            ..RunSpec::paper(g.0, opts.seed, 0)
+        }
+        .validated()?;
+        for &c in &g.3 {
+            cell_config(&cells[c], &spec, opts).validated()?;
+        }
+    }
+    let jobs: Vec<(usize, usize)> = (0..opts.runs)
+        .flat_map(|r| (0..groups.len()).map(move |g| (g, r)))
+        .collect();
+    let mut tallies = vec![vec![FilterTally::default(); targets]; cells.len()];
+    let batch = 4 * rayon::current_num_threads();
+    for chunk in jobs.chunks(batch) {
+        if interrupt() {
+            return Err(Error::Interrupted);
+        }
+        let out: Vec<Vec<Vec<FilterTally>>> = chunk
+            .par_iter()
+            .map(|&(g, r)| {
+                let (snr, _, _, ref members) = groups[g];
+                let spec = RunSpec {
+                    scenario: opts.scenario.clone(),
+                    ..RunSpec::paper(snr, opts.seed, r as u64)
+                };
+                let configs: Vec<PfConfig> = members
+                    .iter()
+                    .map(|&c| cell_config(&cells[c], &spec, opts))
+                    .collect();
+                let mut t = vec![vec![FilterTally::default(); targets]; members.len()];
+                let truth_states = spec.truth();
+                track_run(
+                    &spec,
+                    &configs,
+                    |b, k, _, step, _| {
+                        for (i, ti) in t[b].iter_mut().enumerate() {
+                            ti.observe(i, step, &truth_states.states[k]);
+                        }
+                    },
+                    &mut || false,
+                )?;
+                for tb in &mut t {
+                    tb.iter_mut().for_each(FilterTally::finish_run);
+                }
+                Ok(t)
+            })
+            .collect::<Result<_>>()?;
+        for (&(g, _), t) in chunk.iter().zip(out) {
+            for (&c, tc) in groups[g].3.iter().zip(t) {
+                for (acc, x) in tallies[c].iter_mut().zip(&tc) {
+                    acc.merge(x);
+                }
+            }
+        }
+    }
+    Ok(cells
+        .iter()
+        .zip(&tallies)
+        .map(|(cell, t)| CellResult {
+            cell: *cell,
+            all: pooled(t).metrics(),
+            filters: t.iter().map(FilterTally::metrics).collect(),
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn small_study_is_reproducible_and_ordered() {
+        let opts = StudyOptions {
+            runs: 2,
+            particles: 300,
+            scenario: Scenario {
+                duration: 1.0,
+                ..Scenario::paper()
+            },
+            ..StudyOptions::default()
+        };
+        let cells = [
+            Cell {
+                method: Method::LikelihoodRatio,
+                snr_db: 15.0,
+                xmax: 3.0,
+                vmax: 0.5,
+            },
+            Cell {
+                method: Method::PeakDistance,
+                snr_db: 15.0,
+                xmax: 3.0,
+                vmax: 0.5,
+            },
+        ];
+        let a = study(&cells, &opts, &mut || false).unwrap();
+        let b = study(&cells, &opts, &mut || false).unwrap();
+        assert_eq!(a, b);
+        assert_eq!(a[1].cell.method, Method::PeakDistance);
+        assert!(a[0].all.rmse < 1.5 && a[0].all.pca > 0.8, "{:?}", a[0].all);
+        assert!(study(&cells, &opts, &mut || true).is_err());
+        assert!(study(&cells, &StudyOptions { runs: 0, ..opts }, &mut || false).is_err());
+    }
+}
