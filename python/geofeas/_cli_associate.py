@@ -54,7 +54,9 @@ def run(args: argparse.Namespace) -> int:
         )
         print(
             "  "
-            + ", ".join(f"{int(counts.get(c, 0))} {c}" for c in ("match", "borderline", "non-match"))
+            + ", ".join(
+                f"{int(counts.get(c, 0))} {c}" for c in ("match", "borderline", "non-match")
+            )
             + f"; {result.objects['object'].nunique()} objects"
         )
     return 0
@@ -77,13 +79,14 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument("--lower", type=float, default=0.5, help="non-match below (default 0.5)")
     p.add_argument(
-        "--upper", type=float, default=DEFAULT_UPPER, help=f"match from (default {DEFAULT_UPPER:.4f})"
+        "--upper",
+        type=float,
+        default=DEFAULT_UPPER,
+        help=f"match from (default {DEFAULT_UPPER:.4f})",
     )
     p.add_argument("--max-gap", type=float, default=300.0, help="longest interpolated gap (s)")
     p.add_argument("--horizon", type=float, default=0.0, help="extrapolation horizon (s)")
-    p.add_argument(
-        "--process-noise", type=float, default=2.0, help="position diffusion q (m^2/s)"
-    )
+    p.add_argument("--process-noise", type=float, default=2.0, help="position diffusion q (m^2/s)")
     p.add_argument(
         "--same-source", action="store_true", help="also compare tracks of the same source"
     )
@@ -91,7 +94,9 @@ def add_parser(sub: Any) -> None:
         "--correlation-time", type=float, default=60.0, help="error correlation time (s)"
     )
     p.add_argument("--window", type=float, default=300.0, help="index chunk length (s)")
-    p.add_argument("--threshold", action="store_true", help="thresholded GLR (same as glr_threshold)")
+    p.add_argument(
+        "--threshold", action="store_true", help="thresholded GLR (same as glr_threshold)"
+    )
     p.add_argument("--vertices", type=int, default=256, help="overlap polygon resolution")
     p.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per instant")
     p.add_argument("--seed", type=int, default=0, help="Monte-Carlo seed")

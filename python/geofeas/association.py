@@ -55,8 +55,7 @@ def _pandas() -> Any:
         import pandas as pd
     except ImportError:  # pragma: no cover - depends on the environment
         raise GeofeasError(
-            "geofeas association needs pandas (and pyarrow for Parquet): "
-            "pip install 'geofeas[io]'"
+            "geofeas association needs pandas (and pyarrow for Parquet): pip install 'geofeas[io]'"
         ) from None
     return pd
 
@@ -214,7 +213,15 @@ def _times(frame: pd.DataFrame, where: _Where) -> NDArray[np.float64]:
     else:
         text = col.astype(str)
         numeric = pd.to_numeric(text, errors="coerce")
-        if not numeric.isna().any():
+        if len(text) and not np.isnan(numeric.iloc[0]):
+            # the first value is a number: the column is seconds
+            bad = numeric.isna().to_numpy()
+            if bad.any():
+                row = _first(bad)
+                raise GeofeasError(
+                    f"{where(row)}: column time: {text.iloc[row]!r} is not a number of seconds "
+                    f"(the column is read as seconds, as its first value is)"
+                )
             return _times(frame.assign(time=numeric), where)
         try:
             dt = pd.to_datetime(text, utc=True, errors="coerce", format="ISO8601")
@@ -224,8 +231,8 @@ def _times(frame: pd.DataFrame, where: _Where) -> NDArray[np.float64]:
         if bad.any():
             row = _first(bad)
             raise GeofeasError(
-                f"{where(row)}: column time: {text.iloc[row]!r} is neither seconds nor an "
-                "ISO-8601 time"
+                f"{where(row)}: column time: {text.iloc[row]!r} is not an ISO-8601 time "
+                "(the column is read as ISO-8601, as its first value is)"
             )
     epoch = pd.Timestamp("1970-01-01", tz="UTC")
     return np.ascontiguousarray(((dt - epoch) / pd.Timedelta(seconds=1)).to_numpy(np.float64))
@@ -245,9 +252,7 @@ def _numbers(frame: pd.DataFrame, columns: tuple[str, ...], where: _Where) -> ND
         bad = values.isna().to_numpy()
         if bad.any():
             row = _first(bad)
-            raise GeofeasError(
-                f"{where(row)}: column {name}: {col.iloc[row]!r} is not a number"
-            )
+            raise GeofeasError(f"{where(row)}: column {name}: {col.iloc[row]!r} is not a number")
         v = values.to_numpy(dtype=np.float64)
         bad = ~np.isfinite(v)
         if bad.any():
@@ -385,9 +390,7 @@ class Association:
         The options used.
     """
 
-    def __init__(
-        self, reports: Reports, raw: Mapping[str, Any], options: dict[str, Any]
-    ) -> None:
+    def __init__(self, reports: Reports, raw: Mapping[str, Any], options: dict[str, Any]) -> None:
         pd = _pandas()
         self.reports = reports
         self.options = options
@@ -420,14 +423,17 @@ class Association:
     def __repr__(self) -> str:
         counts = self.pairs["class"].value_counts()
         parts = ", ".join(f"{int(counts.get(c, 0))} {c}" for c in CLASSES)
-        return f"Association({len(self.pairs)} pairs: {parts}; {self.objects['object'].nunique()} objects)"
+        objects = self.objects["object"].nunique()
+        return f"Association({len(self.pairs)} pairs: {parts}; {objects} objects)"
 
     @property
     def matches(self) -> pd.DataFrame:
         """The pairs classed ``"match"``."""
         return self.pairs[self.pairs["class"] == "match"].reset_index(drop=True)
 
-    def assignment(self, source_a: Any, source_b: Any, *, min_score: float | None = None) -> pd.DataFrame:
+    def assignment(
+        self, source_a: Any, source_b: Any, *, min_score: float | None = None
+    ) -> pd.DataFrame:
         """One-to-one assignment between the tracks of two sources maximising the total score
         (Hungarian algorithm per connected component of the sparse candidate graph, in Rust).
 

@@ -196,8 +196,8 @@ mod tests {
 
     #[test]
     fn one_instant_pvalue_is_the_glr() {
-        for m in [0.0, 0.3, 2.0, 9.0, 40.0] {
-            let g = (-0.5 * m as f64).exp();
+        for m in [0.0f64, 0.3, 2.0, 9.0, 40.0] {
+            let g: f64 = (-0.5 * m).exp();
             let p = Combine::PValue.combine(&[g], &[m], &[0.0], 30.0);
             assert!((p - g).abs() < 1e-14 * g.max(1e-300), "{m}: {p} {g}");
             let s = Combine::Chi2.combine(&[g], &[m], &[0.0], 30.0);
