@@ -499,3 +499,55 @@ def test_cli_associate_csv_and_parquet(tmp_path, rng):
         )
         == 0
     )
+
+
+@pytest.mark.parametrize(
+    ("a", "b"),
+    [
+        ((10.0, 179.5), (10.9, -179.6)),
+        ((80.0, 10.0), (80.8, 16.0)),
+        ((-79.5, -179.8), (-80.4, 178.9)),
+    ],
+)
+def test_large_geographic_aous_match_the_geodesic_frame(a, b):
+    # two 100 km AOUs some 100-150 km apart, across the antimeridian or near 80 degrees: the
+    # single-instant GLR is that of the planar pair built from the geodesic between the centres
+    # (Python geographiclib): B at s12 (sin azi1, cos azi1), its bearing turned by azi1 - azi2
+    from geographiclib.geodesic import Geodesic
+
+    import reference
+
+    inv = Geodesic.WGS84.Inverse(a[0], a[1], b[0], b[1])
+    s12, azi1, azi2 = inv["s12"], inv["azi1"], inv["azi2"]
+    assert 50e3 < s12 < 200e3
+    ea = np.array([0.0, 0.0, 100e3, 60e3, math.radians(30.0)])
+    eb = np.array(
+        [
+            s12 * math.sin(math.radians(azi1)),
+            s12 * math.cos(math.radians(azi1)),
+            80e3,
+            50e3,
+            math.radians(110.0 + azi1 - azi2),
+        ]
+    )
+    want = reference.glr(ea, eb)[0]
+    frame = pd.DataFrame(
+        dict(
+            track_id=["a", "b"],
+            source=["s1", "s2"],
+            time=[0.0, 0.0],
+            lat=[a[0], b[0]],
+            lon=[a[1], b[1]],
+            rx=[100e3, 80e3],
+            ry=[60e3, 50e3],
+            bearing=[30.0, 110.0],
+        )
+    )
+    got = geofeas.associate(frame, combine="pvalue").pairs
+    assert got.instants[0] == 1
+    assert got.score[0] == pytest.approx(want, rel=1e-9)
+    # the same pair seen from the other end (ids swapped) gives the same score
+    swapped = frame.assign(track_id=["b", "a"])
+    assert geofeas.associate(swapped, combine="pvalue").pairs.score[0] == pytest.approx(
+        want, rel=1e-12
+    )
