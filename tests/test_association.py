@@ -66,6 +66,8 @@ def test_read_reports_planar_with_extra_columns(tmp_path, rng):
     np.testing.assert_array_equal(rep2.aou, rep.aou)
     rep3 = geofeas.read_reports({c: df[c].to_numpy() for c in df.columns})
     np.testing.assert_array_equal(rep3.time, rep.time)
+    rep4 = geofeas.read_reports(df.to_records(index=False))
+    np.testing.assert_array_equal(rep4.aou, rep.aou)
 
 
 def test_iso_times_and_geographic_columns():

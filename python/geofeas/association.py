@@ -149,6 +149,8 @@ def _read_table(source: Any) -> tuple[pd.DataFrame, _Where]:
         raise GeofeasError(f"{path}: unknown file type {suffix!r} (expected .csv or .parquet)")
     if isinstance(source, pd.DataFrame):
         return source.reset_index(drop=True), _Where(None, lines=False)
+    if isinstance(source, np.ndarray) and source.dtype.names:
+        return pd.DataFrame.from_records(source), _Where(None, lines=False)
     if isinstance(source, Mapping):
         try:
             return pd.DataFrame(dict(source)), _Where(None, lines=False)
@@ -279,7 +281,7 @@ def read_reports(source: Any, /, *, coords: str = "auto") -> Reports:
 
     Parameters
     ----------
-    source : path, pandas.DataFrame, dict of arrays or Reports
+    source : path, pandas.DataFrame, dict of arrays, NumPy structured array or Reports
         A ``.csv`` or ``.parquet`` file, or a table, with the columns ``track_id``, ``source``,
         ``time`` (seconds, or ISO-8601 strings read as UTC) and either ``x, y, rx, ry, phi``
         (planar: metres, ``phi`` in radians clockwise from north) or ``lat, lon, rx, ry,
