@@ -4,6 +4,7 @@
 use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 
+mod association;
 mod mht;
 mod pf;
 mod scores;
@@ -46,5 +47,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     scores::register(m)?;
     mht::register(m)?;
     pf::register(m)?;
+    association::register(m)?;
     Ok(())
 }
