@@ -423,3 +423,35 @@ def test_prf_edge_cases():
     assert prf(0, 0, 5) == (1.0, 0.0, 0.0)
     assert prf(0, 3, 0) == (0.0, 1.0, 0.0)
     assert prf(3, 4, 6) == pytest.approx((0.75, 0.5, 0.6))
+
+
+# ------------------------------------------------------------------------------------ pipeline
+
+
+def test_pipeline_outputs_with_a_standin_engine(tmp_path):
+    """The demo's plumbing (runs, metrics table, files) independently of the engine."""
+    import standin_association as standin
+
+    from geofeas.demo import run, write_outputs
+
+    res = run(
+        "solent",
+        minutes=6,
+        scores=["glr", "glr_threshold"],
+        combines=["mean"],
+        engine=(standin.read_reports, standin.associate),
+        progress=False,
+    )
+    table = res.metrics_table()
+    assert list(table["score"]) == ["glr", "glr", "glr_threshold"]
+    assert table["config"].iloc[0] == "default"
+    written = write_outputs(res, tmp_path / "out")
+    names = {p.name for p in written}
+    assert {"reports.csv", "pairs.csv", "metrics.csv", "map.png"} <= names
+    pairs = pd.read_csv(tmp_path / "out" / "pairs.csv")
+    m = res.default.metrics
+    assert int((pairs["true_pair"] & (pairs["class"] == "match")).sum()) == m.tp
+    assert int(pairs["true_pair"].sum()) == m.true_pairs - m.true_not_candidates
+    reports = pd.read_csv(tmp_path / "out" / "reports.csv")
+    assert len(reports) == len(res.scenario.reports)
+    assert (tmp_path / "out" / "map.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
