@@ -405,81 +405,6 @@ def choose_radar_site(
     return lat0 + sy / m_lat, lon0 + sx / m_lon
 
 
-def _track_numbers(
-    det: np.ndarray, coast: int, confirm: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Track management over a detection matrix ``(V, S)``.
-
-    A track is reported from its ``confirm``-th detection on and dropped after more than
-    ``coast`` consecutive missed updates; the next detection starts a new track. Returns the
-    rows, columns of the reported detections and a segment id per reported detection (unique,
-    numbered in order of the segment's first report).
-    """
-    rows, cols = np.nonzero(det)
-    if len(rows) == 0:
-        empty = np.zeros(0, dtype=np.int64)
-        return empty, empty, empty
-    new = np.ones(len(rows), dtype=bool)
-    new[1:] = (rows[1:] != rows[:-1]) | (cols[1:] - cols[:-1] > coast + 1)
-    seg = np.cumsum(new) - 1
-    first = np.flatnonzero(new)
-    rank = np.arange(len(rows)) - first[seg]
-    keep = rank >= confirm - 1
-    rows, cols, seg = rows[keep], cols[keep], seg[keep]
-    # number segments by the column of their first reported detection
-    uniq, inv = np.unique(seg, return_inverse=True)
-    start_col = np.full(len(uniq), np.iinfo(np.int64).max)
-    np.minimum.at(start_col, inv, cols)
-    order = np.lexsort((uniq, start_col))
-    number = np.empty(len(uniq), dtype=np.int64)
-    number[order] = np.arange(len(uniq))
-    return rows, cols, number[inv]
-
-
-def _false_paths(
-    rng: np.random.Generator,
-    truth_lat: np.ndarray,
-    truth_lon: np.ndarray,
-    ok: np.ndarray,
-    times: np.ndarray,
-    rate_per_hour: float,
-    mean_life: float,
-    max_speed: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """False tracks as pseudo-vessels ``(F, S)``: born at a uniform time near a random vessel
-    position (sea clutter and wakes are on the water), 200-2000 m from it, moving at a constant
-    random velocity for an exponential life."""
-    duration = float(times[-1] - times[0]) if len(times) > 1 else 0.0
-    n = int(rng.poisson(rate_per_hour * duration / 3600.0))
-    s = len(times)
-    lat = np.full((n, s), np.nan)
-    lon = np.full((n, s), np.nan)
-    alive = np.zeros((n, s), dtype=bool)
-    seen = np.argwhere(ok)
-    if n == 0 or len(seen) == 0:
-        return lat[:0], lon[:0], alive[:0]
-    birth = rng.uniform(times[0], times[-1], n)
-    life = rng.exponential(mean_life, n)
-    anchor = seen[rng.integers(0, len(seen), n)]
-    dist = rng.uniform(200.0, 2000.0, n)
-    ang = rng.uniform(0, 2 * np.pi, n)
-    speed = rng.uniform(0, max_speed, n)
-    head = rng.uniform(0, 2 * np.pi, n)
-    la0, lo0 = truth_lat[anchor[:, 0], anchor[:, 1]], truth_lon[anchor[:, 0], anchor[:, 1]]
-    la0, lo0 = _offset(la0, lo0, dist * np.sin(ang), dist * np.cos(ang))
-    dt = times[None, :] - birth[:, None]
-    alive = (dt >= 0) & (dt <= life[:, None])
-    la_b = np.broadcast_to(la0[:, None], (n, s))
-    lo_b = np.broadcast_to(lo0[:, None], (n, s))
-    lat, lon = _offset(
-        la_b,
-        lo_b,
-        speed[:, None] * np.sin(head)[:, None] * dt,
-        speed[:, None] * np.cos(head)[:, None] * dt,
-    )
-    return lat, lon, alive
-
-
 def _iso(seconds: np.ndarray) -> np.ndarray:
     ms = np.round(np.asarray(seconds) * 1000).astype("int64").astype("datetime64[ms]")
     return np.datetime_as_string(ms, unit="ms")
@@ -524,60 +449,132 @@ def _simulate_ais(sensor: AisSensor, truth: Truth, rng: np.random.Generator) -> 
     return _frame(sensor.name, ids, truth.time[keep], la, lo, r, r, b, mmsi)
 
 
+#: Update times simulated per block: memory stays O(vessels x _BLOCK + reports).
+_BLOCK = 512
+
+Observe = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]
+Coverage = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+
+
+def _track_numbers(
+    rows: np.ndarray, cols: np.ndarray, coast: int, confirm: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Track management over detections ``(rows, cols)`` sorted by row then column.
+
+    A track is reported from its ``confirm``-th detection on and dropped after more than
+    ``coast`` consecutive missed updates; the next detection starts a new track. Returns the
+    mask of the reported detections and, for them, a track number (numbered in order of the
+    track's first report).
+    """
+    n = len(rows)
+    if n == 0:
+        return np.zeros(0, dtype=bool), np.zeros(0, dtype=np.int64)
+    new = np.ones(n, dtype=bool)
+    new[1:] = (rows[1:] != rows[:-1]) | (cols[1:] - cols[:-1] > coast + 1)
+    seg = np.cumsum(new) - 1
+    first = np.flatnonzero(new)
+    keep = np.arange(n) - first[seg] >= confirm - 1
+    seg = seg[keep]
+    uniq, inv = np.unique(seg, return_inverse=True)
+    start_col = np.full(len(uniq), np.iinfo(np.int64).max)
+    np.minimum.at(start_col, inv, cols[keep])
+    order = np.lexsort((uniq, start_col))
+    number = np.empty(len(uniq), dtype=np.int64)
+    number[order] = np.arange(len(uniq))
+    return keep, number[inv]
+
+
+def _vessel_detections(
+    n_updates: int, observe: Observe, probability: float, rng: np.random.Generator
+) -> tuple[np.ndarray, ...]:
+    """Detections of the real vessels: ``observe(cols) -> lat, lon, visible, time`` (each
+    ``(V, len(cols))``) block by block, each visible vessel detected with ``probability``."""
+    parts: list[tuple[np.ndarray, ...]] = []
+    for c0 in range(0, n_updates, _BLOCK):
+        cols = np.arange(c0, min(c0 + _BLOCK, n_updates))
+        la, lo, ok, t = observe(cols)
+        det = ok & (rng.random(ok.shape) < probability)
+        r, c = np.nonzero(det)
+        parts.append((r, cols[c], la[r, c], lo[r, c], t[r, c]))
+    if not parts:
+        return tuple(np.zeros(0) for _ in range(5))
+    return tuple(np.concatenate(p) for p in zip(*parts, strict=True))
+
+
+def _false_detections(
+    sensor: Any,
+    rng: np.random.Generator,
+    times: np.ndarray,
+    anchors: tuple[np.ndarray, np.ndarray],
+    coverage: Coverage,
+) -> tuple[np.ndarray, ...]:
+    """Detections of false tracks: born at a uniform time 200-2000 m from a random detected
+    vessel position (sea clutter and wakes are on the water), moving at a constant random
+    velocity for an exponential life; returns ``(track, cols, lat, lon, time)``."""
+    duration = float(times[-1] - times[0]) if len(times) > 1 else 0.0
+    n = int(rng.poisson(sensor.false_tracks_per_hour * duration / 3600.0))
+    if n == 0 or len(anchors[0]) == 0:
+        return tuple(np.zeros(0) for _ in range(5))
+    birth = rng.uniform(times[0], times[-1], n)
+    life = rng.exponential(sensor.false_track_life, n)
+    pick = rng.integers(0, len(anchors[0]), n)
+    dist = rng.uniform(200.0, 2000.0, n)
+    ang = rng.uniform(0, 2 * np.pi, n)
+    speed = rng.uniform(0, sensor.false_track_speed, n)
+    head = rng.uniform(0, 2 * np.pi, n)
+    la0, lo0 = _offset(anchors[0][pick], anchors[1][pick], dist * np.sin(ang), dist * np.cos(ang))
+    c0 = np.searchsorted(times, birth, side="left")
+    c1 = np.searchsorted(times, birth + life, side="right")
+    count = np.maximum(c1 - c0, 0)
+    track = np.repeat(np.arange(n), count)
+    cols = np.repeat(c0, count) + (
+        np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    )
+    t = times[cols]
+    dt = t - birth[track]
+    la, lo = _offset(
+        la0[track],
+        lo0[track],
+        (speed * np.sin(head))[track] * dt,
+        (speed * np.cos(head))[track] * dt,
+    )
+    det = coverage(la, lo, cols) & (rng.random(len(cols)) < sensor.detection_probability)
+    return track[det], cols[det], la[det], lo[det], t[det]
+
+
 def _tracker_reports(
     sensor: Any,
     rng: np.random.Generator,
     times: np.ndarray,
-    lat: np.ndarray,
-    lon: np.ndarray,
-    ok: np.ndarray,
     mmsi: np.ndarray,
-    covariance: Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray], tuple[Any, Any, Any]],
-    observed: np.ndarray | None = None,
+    observe: Observe,
+    coverage: Coverage,
+    covariance: Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[Any, Any, Any]],
 ) -> pd.DataFrame:
-    """Detections, track numbers and noisy reports of a tracking sensor over ``(V, S)`` truths.
+    """Detections, track numbers and noisy reports of a tracking sensor at update ``times``.
 
-    ``covariance(rows, cols, lat, lon) -> (rx, ry, bearing)`` gives the AOU of each report;
-    ``observed`` (``(V, S)`` times) defaults to the update times.
+    ``observe(cols)`` gives the vessels' truth, visibility and observation time at those
+    updates; ``coverage(lat, lon, cols)`` the visibility of a false track;
+    ``covariance(cols, lat, lon) -> (rx, ry, bearing)`` the AOU of each report.
     """
-    det = ok & (rng.random(ok.shape) < sensor.detection_probability)
-    rows, cols, number = _track_numbers(det, sensor.coast, sensor.confirm)
-    la, lo = lat[rows, cols], lon[rows, cols]
-    rx, ry, b = covariance(rows, cols, la, lo)
+    v = len(mmsi)
+    rows, cols, la, lo, t = _vessel_detections(
+        len(times), observe, sensor.detection_probability, rng
+    )
+    f_track, f_cols, f_la, f_lo, f_t = _false_detections(sensor, rng, times, (la, lo), coverage)
+    rows = np.concatenate([rows, v + f_track]).astype(np.int64)
+    cols = np.concatenate([cols, f_cols]).astype(np.int64)
+    la, lo, t = np.concatenate([la, f_la]), np.concatenate([lo, f_lo]), np.concatenate([t, f_t])
+    truth = np.concatenate([mmsi, np.full(int(f_track.max()) + 1 if len(f_track) else 0, -1)])
+    order = np.lexsort((cols, rows))
+    rows, cols, la, lo, t = rows[order], cols[order], la[order], lo[order], t[order]
+    keep, number = _track_numbers(rows, cols, sensor.coast, sensor.confirm)
+    rows, cols, la, lo, t = rows[keep], cols[keep], la[keep], lo[keep], t[keep]
+    rx, ry, b = covariance(cols, la, lo)
     de, dn = _draw(rng, rx, ry, b)
     pla, plo = _offset(la, lo, de, dn)
     ids = np.char.add(f"{sensor.name}-", np.char.zfill(number.astype(str), 4))
-    t = (observed if observed is not None else np.broadcast_to(times, ok.shape))[rows, cols]
-    return _frame(sensor.name, ids, t, pla, plo, rx, ry, b, mmsi[rows])
-
-
-def _with_false(
-    sensor: Any,
-    rng: np.random.Generator,
-    times: np.ndarray,
-    lat: np.ndarray,
-    lon: np.ndarray,
-    ok: np.ndarray,
-    mmsi: np.ndarray,
-    coverage: Callable[[np.ndarray, np.ndarray], np.ndarray],
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    fl, fo, alive = _false_paths(
-        rng,
-        lat,
-        lon,
-        ok,
-        times,
-        sensor.false_tracks_per_hour,
-        sensor.false_track_life,
-        sensor.false_track_speed,
-    )
-    alive &= coverage(fl, fo)
-    return (
-        np.concatenate([lat, fl]),
-        np.concatenate([lon, fo]),
-        np.concatenate([ok, alive]),
-        np.concatenate([mmsi, np.full(len(fl), -1)]),
-    )
+    return _frame(sensor.name, ids, t, pla, plo, rx, ry, b, truth[rows])
 
 
 def _simulate_radar(
@@ -586,29 +583,30 @@ def _simulate_radar(
     site = sensor.site if sensor.site is not None else choose_radar_site(rec)
     geo["radar_site"] = site
     scans = np.arange(rec.start, rec.end, sensor.scan_period)
-    # the beam sweeps clockwise from north: a vessel at bearing b is seen b/360 of a period late
-    lat, lon, ok = truth.at(scans)
-    _, los = _range_bearing(
-        site[0], site[1], np.nan_to_num(lat, nan=site[0]), np.nan_to_num(lon, nan=site[1])
-    )
-    seen = scans[None, :] + sensor.scan_period * los / 360.0
-    lat, lon, ok = truth.at(seen)
 
-    def coverage(la: np.ndarray, lo: np.ndarray) -> np.ndarray:
+    def visible(la: np.ndarray, lo: np.ndarray) -> np.ndarray:
         r, _ = _range_bearing(site[0], site[1], la, lo)
         return (r >= sensor.min_range) & (r <= sensor.max_range)
 
-    ok &= coverage(np.nan_to_num(lat, nan=site[0]), np.nan_to_num(lon, nan=site[1]))
-    mmsi = truth.mmsi
-    lat, lon, ok, mmsi = _with_false(sensor, rng, scans, lat, lon, ok, mmsi, coverage)
-    seen = np.concatenate([seen, np.broadcast_to(scans, (len(mmsi) - len(truth), len(scans)))])
+    def observe(cols: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        # the beam sweeps clockwise from north: a vessel at bearing b is seen b/360 of a scan late
+        lat, lon, _ = truth.at(scans[cols])
+        _, los = _range_bearing(
+            site[0], site[1], np.nan_to_num(lat, nan=site[0]), np.nan_to_num(lon, nan=site[1])
+        )
+        seen = scans[cols][None, :] + sensor.scan_period * los / 360.0
+        lat, lon, ok = truth.at(seen)
+        ok &= visible(np.nan_to_num(lat, nan=site[0]), np.nan_to_num(lon, nan=site[1]))
+        return lat, lon, ok, seen
 
-    def cov(rows: np.ndarray, cols: np.ndarray, la: np.ndarray, lo: np.ndarray) -> Any:
+    def cov(cols: np.ndarray, la: np.ndarray, lo: np.ndarray) -> Any:
         r, los = _range_bearing(site[0], site[1], la, lo)
         across = 2 * r * np.radians(sensor.bearing_sigma)
         return across, np.full(len(r), 2 * sensor.range_sigma), los + 90.0
 
-    return _tracker_reports(sensor, rng, scans, lat, lon, ok, mmsi, cov, observed=seen)
+    return _tracker_reports(
+        sensor, rng, scans, truth.mmsi, observe, lambda la, lo, _c: visible(la, lo), cov
+    )
 
 
 def _aircraft_path(
@@ -639,25 +637,29 @@ def _simulate_aircraft(
     t1 = rec.start + f1 * (rec.end - rec.start)
     times = np.arange(t0, t1, sensor.update_period)
     if len(times) == 0:
-        return _frame(sensor.name, *(np.zeros(0),) * 8)
+        e = np.zeros(0)
+        return _frame(sensor.name, e.astype(str), e, e, e, e, e, e, e)
     alat, alon = _aircraft_path(sensor, rec, times, geo)
     geo["aircraft_path"] = (alat, alon)
-    lat, lon, ok = truth.at(times)
 
-    def coverage(la: np.ndarray, lo: np.ndarray) -> np.ndarray:
-        r, _ = _range_bearing(alat[None, :], alon[None, :], la, lo)
+    def visible(la: np.ndarray, lo: np.ndarray, cols: np.ndarray) -> np.ndarray:
+        r, _ = _range_bearing(alat[cols], alon[cols], la, lo)
         return r <= sensor.max_range
 
-    ok &= coverage(np.nan_to_num(lat, nan=alat[0]), np.nan_to_num(lon, nan=alon[0]))
-    lat, lon, ok, mmsi = _with_false(sensor, rng, times, lat, lon, ok, truth.mmsi, coverage)
+    def observe(cols: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        lat, lon, ok = truth.at(times[cols])
+        ok &= visible(
+            np.nan_to_num(lat, nan=alat[0]), np.nan_to_num(lon, nan=alon[0]), cols[None, :]
+        )
+        return lat, lon, ok, np.broadcast_to(times[cols], lat.shape)
 
-    def cov(rows: np.ndarray, cols: np.ndarray, la: np.ndarray, lo: np.ndarray) -> Any:
+    def cov(cols: np.ndarray, la: np.ndarray, lo: np.ndarray) -> Any:
         r, los = _range_bearing(alat[cols], alon[cols], la, lo)
         across = np.hypot(r * np.radians(sensor.bearing_sigma), sensor.navigation_sigma)
         along = np.hypot(sensor.range_sigma, sensor.navigation_sigma)
         return 2 * across, np.full(len(r), 2 * along), los + 90.0
 
-    return _tracker_reports(sensor, rng, times, lat, lon, ok, mmsi, cov)
+    return _tracker_reports(sensor, rng, times, truth.mmsi, observe, visible, cov)
 
 
 def _simulate_hfdf(
