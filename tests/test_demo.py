@@ -151,6 +151,27 @@ def test_marinecadastre_schema_defects(tmp_path):
     assert r[len(rows) + 1].startswith("position not available")
 
 
+def test_other_schemas(tmp_path):
+    # Danish Maritime Authority export: day-first times, no SOG/COG needed
+    body = "# Timestamp,Type of mobile,MMSI,Latitude,Longitude\n" + "".join(
+        f"12/01/2016 13:0{k}:00,Class A,219000001,{55.70 + k * 0.001:.4f},12.6\n" for k in range(5)
+    )
+    (tmp_path / "dma.csv").write_text(body)
+    rec = read_ais(tmp_path / "dma.csv")
+    assert rec.schema == "dma" and len(rec.tracks) == 5
+    assert rec.tracks["time"].iloc[0] == pd.Timestamp("2016-01-12 13:00:00", tz="UTC").timestamp()
+    assert rec.tracks["sog"].isna().all()
+    # snake-case names and Unix-second times
+    body = "mmsi,base_date_time,latitude,longitude,sog,cog\n" + "".join(
+        f"367000001,{1452603600 + 60 * k},40.6{k},-74.0,5.0,-60.6\n" for k in range(3)
+    )
+    (tmp_path / "snake.csv").write_text(body)
+    rec = read_ais(tmp_path / "snake.csv")
+    assert rec.schema == "marinecadastre"
+    np.testing.assert_array_equal(rec.tracks["time"], 1452603600 + 60 * np.arange(3))
+    np.testing.assert_allclose(rec.tracks["cog"], 349.0)
+
+
 def test_loader_errors(tmp_path):
     with pytest.raises(geofeas.GeofeasError, match="not a recognised AIS schema"):
         read_ais(_write(tmp_path / "x.csv", "a,b\n1,2\n", []))

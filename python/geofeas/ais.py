@@ -2,7 +2,9 @@
 
 Two schemas are recognised from the header: the Solent recording of dstl/Stone-Soup (``Time,
 MMSI, Latitude_degrees, Longitude_degrees, COG_degrees, SOG_knots``) and the NOAA MarineCadastre
-broadcast-point schema (``MMSI, BaseDateTime, LAT, LON, SOG, COG, Heading, ...``). The defects that
+broadcast-point schema (``MMSI, BaseDateTime, LAT, LON, SOG, COG, Heading, ...``); other files are
+read when their columns match :data:`FIELD_ALIASES` (e.g. MarineCadastre's newer snake-case names
+or the Danish Maritime Authority's export). The defects that
 real recordings have are handled and every removal or correction is reported (count and reason),
 never silent:
 
@@ -34,7 +36,7 @@ import pandas as pd
 
 from ._core import GeofeasError
 
-__all__ = ["AisRecording", "read_ais", "AIS_SCHEMAS"]
+__all__ = ["AIS_SCHEMAS", "FIELD_ALIASES", "AisRecording", "read_ais"]
 
 #: Column names of each recognised schema: mmsi, time, lat, lon, sog, cog.
 AIS_SCHEMAS: dict[str, dict[str, str]] = {
@@ -115,15 +117,37 @@ class AisRecording:
         return "\n".join(lines)
 
 
-def _detect_schema(columns: list[str], source: str) -> str:
+#: Accepted column names of each field (case-insensitive), beyond the two schemas above: the
+#: MarineCadastre 2024+ snake-case names and the Danish Maritime Authority's export.
+FIELD_ALIASES: dict[str, tuple[str, ...]] = {
+    "mmsi": ("MMSI",),
+    "time": ("Time", "BaseDateTime", "base_date_time", "# Timestamp", "Timestamp", "datetime"),
+    "lat": ("Latitude_degrees", "LAT", "Latitude"),
+    "lon": ("Longitude_degrees", "LON", "Longitude", "long"),
+    "sog": ("SOG_knots", "SOG", "speed"),
+    "cog": ("COG_degrees", "COG", "course"),
+}
+_REQUIRED = ("mmsi", "time", "lat", "lon")
+
+
+def _detect_schema(columns: list[str], source: str) -> tuple[str, dict[str, str | None]]:
     for name, cols in AIS_SCHEMAS.items():
         if all(c in columns for c in cols.values()):
-            return name
-    expected = "; ".join(f"{k}: {', '.join(v.values())}" for k, v in AIS_SCHEMAS.items())
-    raise GeofeasError(
-        f"{source}: line 1: not a recognised AIS schema (columns {', '.join(columns)}); "
-        f"expected the columns of one of {expected}"
-    )
+            return name, dict(cols)
+    lower = {c.lower(): c for c in columns}
+    found: dict[str, str | None] = {}
+    for key, aliases in FIELD_ALIASES.items():
+        found[key] = next((lower[a.lower()] for a in aliases if a.lower() in lower), None)
+    missing = [k for k in _REQUIRED if found[k] is None]
+    if missing:
+        expected = "; ".join(f"{k}: {', '.join(v.values())}" for k, v in AIS_SCHEMAS.items())
+        raise GeofeasError(
+            f"{source}: line 1: not a recognised AIS schema (columns {', '.join(columns)}): "
+            f"no column for {', '.join(missing)}; expected the columns of one of {expected}"
+        )
+    t = str(found["time"]).lower()
+    name = "marinecadastre" if t in ("basedatetime", "base_date_time") else "generic"
+    return (name if t != "# timestamp" else "dma"), found
 
 
 def _numeric(frame: pd.DataFrame, column: str, source: str, *, integer: bool = False) -> np.ndarray:
@@ -148,8 +172,17 @@ def _numeric(frame: pd.DataFrame, column: str, source: str, *, integer: bool = F
 
 
 def _times(frame: pd.DataFrame, column: str, source: str) -> np.ndarray:
+    """Seconds since the Unix epoch: numbers are taken as such, text as ISO-8601 (or, if that
+    fails, day-first ``dd/mm/yyyy HH:MM:SS`` as in the Danish Maritime Authority's files)."""
     raw = frame[column].astype(str).str.strip()
+    numeric = pd.to_numeric(raw, errors="coerce")
+    if numeric.notna().all():
+        return numeric.to_numpy(np.float64)
     parsed = pd.to_datetime(raw, format="ISO8601", errors="coerce", utc=True)
+    if parsed.isna().any():
+        dayfirst = pd.to_datetime(raw, format="%d/%m/%Y %H:%M:%S", errors="coerce", utc=True)
+        if dayfirst.notna().all():
+            parsed = dayfirst
     bad = np.flatnonzero(parsed.isna().to_numpy())
     if len(bad):
         k = int(bad[0])
@@ -255,14 +288,15 @@ def read_ais(
     except pd.errors.ParserError as exc:
         raise GeofeasError(f"{name}: malformed CSV: {exc}") from None
     frame.columns = [str(c).strip() for c in frame.columns]
-    schema = _detect_schema(list(frame.columns), name)
-    cols = AIS_SCHEMAS[schema]
-    mmsi = _numeric(frame, cols["mmsi"], name, integer=True)
-    t = _times(frame, cols["time"], name)
-    lat = _numeric(frame, cols["lat"], name)
-    lon = _numeric(frame, cols["lon"], name)
-    sog = _numeric(frame, cols["sog"], name)
-    cog = _numeric(frame, cols["cog"], name)
+    schema, cols = _detect_schema(list(frame.columns), name)
+    mmsi = _numeric(frame, str(cols["mmsi"]), name, integer=True)
+    t = _times(frame, str(cols["time"]), name)
+    lat = _numeric(frame, str(cols["lat"]), name)
+    lon = _numeric(frame, str(cols["lon"]), name)
+    nan = np.full(len(frame), np.nan)
+    sog = nan.copy() if cols["sog"] is None else _numeric(frame, cols["sog"], name)
+    cog = nan.copy() if cols["cog"] is None else _numeric(frame, cols["cog"], name)
+    cog_given = np.isfinite(cog)
     line = np.arange(len(frame), dtype=np.int64) + 2
 
     reasons = np.full(len(frame), "", dtype=object)
@@ -286,7 +320,7 @@ def read_ais(
     cog = np.round(cog, 1)
     na_cog = ~np.isfinite(cog) | (cog >= 360.0) | (cog < 0)
     corrected["COG not available (360 or out of range), set to NaN"] = int(
-        (na_cog & np.isfinite(_numeric(frame, cols["cog"], name))).sum()
+        (na_cog & cog_given).sum()
     )
     cog = np.where(na_cog, np.nan, cog)
     na_sog = np.isfinite(sog) & ((sog >= 102.25) | (sog < 0))
