@@ -11,7 +11,9 @@ from collections.abc import Sequence
 from ._core import GeofeasError, __version__
 
 #: Modules providing sub-commands, in the order ``--help`` lists them.
-SUBCOMMANDS = ["_cli_score", "_cli_mht", "_cli_demo"]
+SUBCOMMANDS = ["_cli_score", "_cli_mht"]
+SUBCOMMANDS.append("_cli_associate")
+SUBCOMMANDS.append("_cli_demo")
 
 
 def build_parser() -> argparse.ArgumentParser:
