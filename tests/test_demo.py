@@ -449,30 +449,50 @@ def test_prf_edge_cases():
 # ------------------------------------------------------------------------------------ pipeline
 
 
-def test_pipeline_outputs_with_a_standin_engine(tmp_path):
-    """The demo's plumbing (runs, metrics table, files) independently of the engine."""
-    import standin_association as standin
+# ------------------------------------------------------------------------------------ pipeline
 
-    from geofeas.demo import run, write_outputs
 
-    res = run(
-        "solent",
-        minutes=6,
-        scores=["glr", "glr_threshold"],
-        combines=["mean"],
-        engine=(standin.read_reports, standin.associate),
-        progress=False,
-    )
+def test_cli_names_match_the_modules():
+    from geofeas import _cli_demo, demo, scenario
+
+    assert list(_cli_demo.SENSORS) == list(scenario.SENSORS)
+    assert list(_cli_demo.SCORES) == list(demo.SCORES)
+    assert list(_cli_demo.RECORDINGS) == list(demo.RECORDINGS)
+
+
+def test_cli_rejects_unknown_sensor(capsys):
+    from geofeas.cli import main
+
+    with pytest.raises(SystemExit):
+        main(["demo", "--sensors", "ais,sonar"])
+    assert "unknown sensor(s) sonar" in capsys.readouterr().err
+
+
+@pytest.fixture(scope="module")
+def short_demo():
+    from geofeas.demo import run
+
+    return run("solent", minutes=10, scores=["glr", "overlap"], combines=["chi2", "geometric"],
+               progress=False)
+
+
+def test_pipeline_outputs(short_demo, tmp_path):
+    from geofeas.demo import write_outputs
+
+    res = short_demo
     table = res.metrics_table()
-    assert list(table["score"]) == ["glr", "glr", "glr_threshold"]
-    assert table["config"].iloc[0] == "default"
+    # the default (the engine's defaults), then each score with the default rule, each rule
+    # with the default score
+    assert list(zip(table["score"], table["combine"], strict=True)) == [
+        ("glr", "chi2"), ("glr", "chi2"), ("overlap", "chi2"), ("glr", "geometric"),
+    ]
     written = write_outputs(res, tmp_path / "out")
-    names = {p.name for p in written}
-    assert {"reports.csv", "pairs.csv", "metrics.csv", "map.png"} <= names
+    assert {p.name for p in written} >= {"reports.csv", "pairs.csv", "metrics.csv", "map.png"}
     pairs = pd.read_csv(tmp_path / "out" / "pairs.csv")
     m = res.default.metrics
     assert int((pairs["true_pair"] & (pairs["class"] == "match")).sum()) == m.tp
     assert int(pairs["true_pair"].sum()) == m.true_pairs - m.true_not_candidates
-    reports = pd.read_csv(tmp_path / "out" / "reports.csv")
-    assert len(reports) == len(res.scenario.reports)
     assert (tmp_path / "out" / "map.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # reports.csv is what `geofeas associate` reads
+    again = geofeas.associate(geofeas.read_reports(tmp_path / "out" / "reports.csv"))
+    assert len(again.pairs) == len(res.default.pairs)

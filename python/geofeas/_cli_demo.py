@@ -18,8 +18,13 @@ import argparse
 import sys
 from typing import Any
 
-from .demo import RECORDINGS, SCORES, fmt, run, write_outputs
-from .scenario import SENSORS
+from ._core import GeofeasError
+
+# the names only (the modules need pandas, imported when the command runs); tests check that
+# they match geofeas.scenario.SENSORS, geofeas.demo.SCORES and geofeas.demo.RECORDINGS
+SENSORS = ("ais", "radar", "aircraft", "hfdf")
+SCORES = ("glr", "glr_threshold", "overlap", "monte_carlo")
+RECORDINGS = ("solent", "nyharbor")
 
 
 def _sensors(text: str) -> list[str]:
@@ -33,12 +38,16 @@ def _sensors(text: str) -> list[str]:
 
 
 def main(args: argparse.Namespace) -> int:
+    try:
+        from .demo import fmt, run, write_outputs
+    except ImportError as exc:
+        raise GeofeasError(f"demo needs pandas: pip install 'geofeas[io]' ({exc})") from None
     options: dict[str, Any] = {}
     if args.lower is not None:
         options["lower"] = args.lower
     if args.upper is not None:
         options["upper"] = args.upper
-    scores = args.score if args.score else (["glr"] if args.quick else list(SCORES))
+    scores = args.score if args.score else list(SCORES)
     result = run(
         args.ais,
         sensors=args.sensors,
@@ -46,6 +55,7 @@ def main(args: argparse.Namespace) -> int:
         minutes=args.minutes,
         scores=scores,
         combines=args.combine,
+        grid=args.grid,
         options=options,
         progress=not args.no_progress,
         log=print,
@@ -99,10 +109,10 @@ def main(args: argparse.Namespace) -> int:
             f"  {'score':<14}{'combine':<14}{'precision':>10}{'recall':>8}{'F1':>7}"
             f"{'match':>8}{'border':>8}{'non':>8}{'time s':>8}"
         )
-        for r in result.runs:
-            x = r.metrics
+        for one in result.runs:
+            x = one.metrics
             print(
-                f"  {r.score:<14}{r.combine:<14}{fmt(x.precision):>10}{fmt(x.recall):>8}"
+                f"  {one.score:<14}{one.combine:<14}{fmt(x.precision):>10}{fmt(x.recall):>8}"
                 f"{fmt(x.f1):>7}{x.classes['match']:>8}{x.classes['borderline']:>8}"
                 f"{x.classes['non-match']:>8}{x.seconds:>8.2f}"
             )
@@ -147,7 +157,12 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument("--lower", type=float, default=None, help="triage: non-match below")
     p.add_argument("--upper", type=float, default=None, help="triage: match at or above")
-    p.add_argument("--quick", action="store_true", help="table with the glr score only")
+    p.add_argument(
+        "--grid",
+        action="store_true",
+        help="table over every score x rule (default: each score with the default rule and "
+        "each rule with glr)",
+    )
     p.add_argument("--no-map", action="store_true", help="do not draw map.png")
     p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     p.set_defaults(func=main)

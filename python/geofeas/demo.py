@@ -23,6 +23,7 @@ import pandas as pd
 
 from ._core import GeofeasError
 from .ais import AisRecording, read_ais
+from .association import COMBINE_RULES, associate, read_reports
 from .evaluate import Metrics, evaluate, track_table
 from .scenario import Scenario, metres_per_degree, simulate
 
@@ -115,59 +116,32 @@ class DemoResult:
         return pd.DataFrame(rows)
 
 
-def _engine() -> tuple[Callable[..., Any], Callable[..., Any]]:
-    try:
-        from . import association
-    except ImportError as exc:  # pragma: no cover - the engine ships with the package
-        raise GeofeasError(f"the association engine is not available: {exc}") from None
-    return association.read_reports, association.associate
-
-
-def combine_rules() -> list[str]:
-    """The combination rules the association engine offers."""
-    try:
-        from . import association
-    except ImportError:  # pragma: no cover
-        return []
-    for name in ("COMBINE_RULES", "COMBINE", "COMBINATIONS"):
-        rules = getattr(association, name, None)
-        if rules:
-            return list(rules)
-    return []
-
-
 def default_combine() -> str:
     """Name of the engine's default combination rule (from ``associate``'s signature)."""
     import inspect
 
-    _, assoc = _engine()
-    p = inspect.signature(assoc).parameters.get("combine")
-    if p is None or p.default is inspect.Parameter.empty:
-        return "default"
-    return str(p.default)
+    return str(inspect.signature(associate).parameters["combine"].default)
 
 
 def _associate(
-    engine: tuple[Callable[..., Any], Callable[..., Any]],
     reports: Any,
     tracks: pd.DataFrame,
     score: str,
     combine: str | None,
     options: dict[str, Any],
 ) -> Run:
-    _, assoc = engine
     kwargs: dict[str, Any] = dict(options)
     name, extra = SCORES[score]
     kwargs.update(extra)
     if combine is not None:
         kwargs["combine"] = combine
     t0 = time.perf_counter()
-    result = assoc(reports, score=name, **kwargs)
+    result = associate(reports, score=name, **kwargs)
     seconds = time.perf_counter() - t0
     pairs = result.pairs
     objects = getattr(result, "objects", None)
     metrics = evaluate(tracks, pairs, objects=objects, seconds=seconds)
-    return Run(score, combine or "default", metrics, pairs, objects)
+    return Run(score, combine or default_combine(), metrics, pairs, objects)
 
 
 def run(
@@ -179,9 +153,9 @@ def run(
     minutes: float | None = None,
     scores: Sequence[str] | None = None,
     combines: Sequence[str] | None = None,
+    grid: bool = False,
     options: dict[str, Any] | None = None,
     progress: bool = True,
-    engine: tuple[Callable[..., Any], Callable[..., Any]] | None = None,
     log: Callable[[str], None] | None = None,
 ) -> DemoResult:
     """Run the demo pipeline.
@@ -196,12 +170,13 @@ def run(
         Scores of the comparison table (keys of :data:`SCORES`; default all).
     combines : sequence of str, optional
         Combination rules of the table (default: all the engine offers).
+    grid : bool
+        Table over every score x rule; by default each score with the default rule and each rule
+        with the default score (``glr``).
     options : dict, optional
         Further keyword options of every ``associate`` call (``lower``, ``upper``, ...).
     progress : bool
         Show a progress bar on stderr over the associations.
-    engine : (read_reports, associate), optional
-        The association engine (default: :mod:`geofeas.association`).
     log : callable, optional
         Receives the progress messages of the stages (default: silent).
 
@@ -215,23 +190,34 @@ def run(
     say(rec.summary())
     sc = simulate(rec, sensors=sensors, seed=seed, minutes=minutes)
     tracks = track_table(sc.reports, sc.seconds)
-    eng = engine if engine is not None else _engine()
-    read_reports, _ = eng
     reports = read_reports(sc.reports[REPORT_COLUMNS])
     opts = dict(options or {})
     scores = list(scores) if scores is not None else list(SCORES)
     for s in scores:
         if s not in SCORES:
             raise GeofeasError(f"unknown score {s!r}; expected one of {list(SCORES)}")
-    combines = list(combines) if combines is not None else (combine_rules() or [None])  # type: ignore[list-item]
-    configs = [(s, c) for s in scores for c in combines]
-    bar = Progress(1 + len(configs), "associate") if progress else None
-    default = _associate(eng, reports, tracks, "glr", None, opts)
+    combines = list(combines) if combines is not None else list(COMBINE_RULES)
+    for c in combines:
+        if c not in COMBINE_RULES:
+            raise GeofeasError(f"unknown combination rule {c!r}; expected one of {COMBINE_RULES}")
+    dflt = default_combine()
+    if grid:
+        configs = [(s, c) for s in scores for c in combines]
+    else:
+        configs = [(s, dflt) for s in scores] + [("glr", c) for c in combines]
+        configs = [c for k, c in enumerate(configs) if c not in configs[:k]]
+    todo = [c for c in configs if c != ("glr", dflt)]
+    bar = Progress(1 + len(todo), "associate") if progress else None
+    say(f"associating {len(sc.reports)} reports: {1 + len(todo)} configurations")
+    default = _associate(reports, tracks, "glr", None, opts)
     if bar:
-        bar.step("default")
+        bar.step(f"glr / {dflt} (default)")
     runs = []
     for s, c in configs:
-        runs.append(_associate(eng, reports, tracks, s, c, opts))
+        if (s, c) == ("glr", dflt):
+            runs.append(default)
+            continue
+        runs.append(_associate(reports, tracks, s, c, opts))
         if bar:
             bar.step(f"{s} / {c}")
     return DemoResult(rec, sc, tracks, default, runs)

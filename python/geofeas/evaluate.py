@@ -132,8 +132,10 @@ def _key(a: Any, b: Any) -> tuple[str, str]:
 
 def _object_pairs(objects: pd.DataFrame, tracks: pd.DataFrame) -> set[tuple[str, str]]:
     out: set[tuple[str, str]] = set()
-    t = objects.assign(track_id=objects["track_id"].astype(str)).join(
-        tracks, on="track_id", how="inner"
+    t = (
+        objects[["track_id", "object"]]
+        .assign(track_id=objects["track_id"].astype(str))
+        .join(tracks, on="track_id", how="inner")
     )
     for _, grp in t.groupby("object"):
         if len(grp) < 2:
