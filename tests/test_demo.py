@@ -423,6 +423,9 @@ def test_evaluate_counts():
     assert m.true_in_class == {"match": 1, "borderline": 1, "non-match": 1}
     assert m.true_not_candidates == 3
     assert m.fp_with_false_track == 1 and m.same_source_matches == 1
+    # ais-1/a-1 scored 0.6 (borderline): demoted only if the match threshold was <= 0.6
+    assert evaluate(tracks, pairs, upper=0.55).fn_demoted == 1
+    assert evaluate(tracks, pairs, upper=0.8).fn_demoted == 0
     bs = m.by_sources.set_index("sources")
     assert bs.loc["ais-radar", "true_pairs"] == 3 and bs.loc["ais-radar", "tp"] == 1
     objects = pd.DataFrame(

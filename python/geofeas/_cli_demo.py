@@ -90,6 +90,10 @@ def main(args: argparse.Namespace) -> int:
         f"({m.tp} TP, {m.fp} FP of which {m.fp_with_false_track} with a false track, "
         f"{m.fn} FN)"
     )
+    print(
+        f"  missed true pairs: {m.fn_demoted} scored a match but the grouping demoted them, "
+        f"{m.fn - m.fn_demoted} scored lower"
+    )
     if m.object_f1 == m.object_f1:
         print(
             f"  pairs implied by the objects: precision {fmt(m.object_precision)}  "

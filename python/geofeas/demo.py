@@ -140,7 +140,8 @@ def _associate(
     seconds = time.perf_counter() - t0
     pairs = result.pairs
     objects = getattr(result, "objects", None)
-    metrics = evaluate(tracks, pairs, objects=objects, seconds=seconds)
+    upper = getattr(result, "options", {}).get("upper")
+    metrics = evaluate(tracks, pairs, objects=objects, seconds=seconds, upper=upper)
     return Run(score, combine or default_combine(), metrics, pairs, objects)
 
 
