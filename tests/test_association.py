@@ -66,6 +66,8 @@ def test_read_reports_planar_with_extra_columns(tmp_path, rng):
     np.testing.assert_array_equal(rep2.aou, rep.aou)
     rep3 = geofeas.read_reports({c: df[c].to_numpy() for c in df.columns})
     np.testing.assert_array_equal(rep3.time, rep.time)
+    rep4 = geofeas.read_reports(df.to_records(index=False))
+    np.testing.assert_array_equal(rep4.aou, rep.aou)
 
 
 def test_iso_times_and_geographic_columns():
@@ -551,3 +553,27 @@ def test_large_geographic_aous_match_the_geodesic_frame(a, b):
     assert geofeas.associate(swapped, combine="pvalue").pairs.score[0] == pytest.approx(
         want, rel=1e-12
     )
+
+
+def test_auto_inflation_recovers_true_pairs_with_optimistic_aous(rng):
+    # 12 ships on parallel lanes 2 km apart, AIS (10 m) and radar (40 m) each, but the radar
+    # states an AOU for 20 m: the summed distances of true pairs are about (10^2 + 40^2) /
+    # (10^2 + 20^2) = 3.4 times too large for the stated covariances
+    parts = []
+    for s in range(12):
+        parts.append(straight_track(rng, f"a{s:02d}", "ais", (0, 2000 * s), (5, 0), 10, 10))
+        radar = straight_track(rng, f"r{s:02d}", "radar", (0, 2000 * s), (5, 0), 4, 40)
+        parts.append(radar.assign(rx=40.0, ry=40.0))
+    frame = pd.concat(parts)
+    strict = geofeas.associate(frame, inflation=1.0)
+    auto = geofeas.associate(frame)
+    truth = lambda p: p.track_a.str[1:] == p.track_b.str[1:]  # noqa: E731
+    assert (strict.pairs["class"][truth(strict.pairs)] == "match").sum() <= 2
+    true_auto = auto.pairs[truth(auto.pairs)]
+    assert (true_auto["class"] == "match").sum() >= 10
+    c = auto.inflation[("ais", "radar")]
+    # AIS interpolated at radar times has a smaller actual error than stated, so the measured
+    # factor is somewhat below 3.4
+    assert 2.3 < c < 3.6
+    assert strict.inflation == {("ais", "radar"): 1.0}
+    assert geofeas.associate(frame, combine="geometric").inflation == {}

@@ -40,6 +40,7 @@ def run(args: argparse.Namespace) -> int:
         same_source=args.same_source,
         correlation_time=args.correlation_time,
         window=args.window,
+        inflation=args.inflation if args.inflation == "auto" else float(args.inflation),
         **options,
     )
     result.to_file(args.out)
@@ -60,6 +61,17 @@ def run(args: argparse.Namespace) -> int:
             + f"; {result.objects['object'].nunique()} objects"
         )
     return 0
+
+
+def _inflation(text: str) -> str:
+    if text != "auto":
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected 'auto' or a number, got {text!r}") from None
+        if not value > 0:
+            raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return text
 
 
 def add_parser(sub: Any) -> None:
@@ -96,6 +108,12 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--window", type=float, default=300.0, help="index chunk length (s)")
     p.add_argument(
         "--threshold", action="store_true", help="thresholded GLR (same as glr_threshold)"
+    )
+    p.add_argument(
+        "--inflation",
+        default="auto",
+        type=_inflation,
+        help="covariance inflation of the chi-square rules: 'auto' (default) or a number",
     )
     p.add_argument("--vertices", type=int, default=256, help="overlap polygon resolution")
     p.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per instant")

@@ -149,6 +149,8 @@ def _read_table(source: Any) -> tuple[pd.DataFrame, _Where]:
         raise GeofeasError(f"{path}: unknown file type {suffix!r} (expected .csv or .parquet)")
     if isinstance(source, pd.DataFrame):
         return source.reset_index(drop=True), _Where(None, lines=False)
+    if isinstance(source, np.ndarray) and source.dtype.names:
+        return pd.DataFrame.from_records(source), _Where(None, lines=False)
     if isinstance(source, Mapping):
         try:
             return pd.DataFrame(dict(source)), _Where(None, lines=False)
@@ -279,7 +281,7 @@ def read_reports(source: Any, /, *, coords: str = "auto") -> Reports:
 
     Parameters
     ----------
-    source : path, pandas.DataFrame, dict of arrays or Reports
+    source : path, pandas.DataFrame, dict of arrays, NumPy structured array or Reports
         A ``.csv`` or ``.parquet`` file, or a table, with the columns ``track_id``, ``source``,
         ``time`` (seconds, or ISO-8601 strings read as UTC) and either ``x, y, rx, ry, phi``
         (planar: metres, ``phi`` in radians clockwise from north) or ``lat, lon, rx, ry,
@@ -386,6 +388,9 @@ class Association:
     candidates : int
         Number of candidate pairs the space-time index returned (before dropping those without
         a common instant).
+    inflation : dict
+        ``{(source_a, source_b): c}``: the covariance inflation the chi-square rules used for
+        each pair of sources (estimated with ``inflation="auto"``); empty for other rules.
     options : dict
         The options used.
     """
@@ -409,6 +414,13 @@ class Association:
                 "class": CLASSES[np.asarray(raw["class"], dtype=np.intp)],
             }
         )
+        srcs = reports.sources
+        self.inflation = {
+            (srcs[int(a)], srcs[int(b)]): float(c)
+            for a, b, c in zip(
+                raw["inflation_a"], raw["inflation_b"], raw["inflation"], strict=True
+            )
+        }
         obj = np.asarray(raw["object"], dtype=np.int64)
         per_track_source = np.empty(reports.n_tracks, dtype=np.intp)
         per_track_source[reports.track] = reports.source
@@ -519,6 +531,7 @@ def associate(
     same_source: bool = False,
     correlation_time: float = 60.0,
     window: float = 300.0,
+    inflation: float | str = "auto",
     **score_options: Any,
 ) -> Association:
     """Score every candidate track pair and group duplicate tracks into objects.
@@ -552,6 +565,12 @@ def associate(
         ``"pvalue"``; 0 treats instants as independent.
     window : float
         Longest time span of one chunk of the space-time index (s); affects speed only.
+    inflation : "auto" or float
+        Covariance inflation of the chi-square rules. ``"auto"`` (default) estimates one factor
+        per pair of sources from the pairs that are each other's best partner (median of their
+        mean distances against the chi-square median; at least 1, so AOUs are never tightened),
+        which keeps true pairs matched when a source's AOUs are optimistic; a number divides
+        every summed distance by it (1: the AOUs as given). See :attr:`Association.inflation`.
     **score_options
         ``threshold`` (glr), ``method`` and ``vertices`` (overlap), ``samples`` and ``seed``
         (monte_carlo).
@@ -562,6 +581,12 @@ def associate(
     """
     rep = read_reports(reports)
     name, opts = _score_options(score, score_options)
+    if isinstance(inflation, str):
+        if inflation != "auto":
+            raise GeofeasError(f"inflation: expected 'auto' or a number, got {inflation!r}")
+        infl: float | None = None
+    else:
+        infl = float(inflation)
     options = dict(
         score=score,
         combine=combine,
@@ -573,6 +598,7 @@ def associate(
         same_source=bool(same_source),
         correlation_time=float(correlation_time),
         window=float(window),
+        inflation=inflation,
         **score_options,
     )
     raw = _core.associate(
@@ -588,6 +614,7 @@ def associate(
         same_source=bool(same_source),
         correlation_time=float(correlation_time),
         window=float(window),
+        inflation=infl,
         **opts,
     )
     return Association(rep, raw, options)
