@@ -475,8 +475,13 @@ def test_cli_rejects_unknown_sensor(capsys):
 def short_demo():
     from geofeas.demo import run
 
-    return run("solent", minutes=10, scores=["glr", "overlap"], combines=["chi2", "geometric"],
-               progress=False)
+    return run(
+        "solent",
+        minutes=10,
+        scores=["glr", "overlap"],
+        combines=["chi2", "geometric"],
+        progress=False,
+    )
 
 
 def test_pipeline_outputs(short_demo, tmp_path):
@@ -487,7 +492,10 @@ def test_pipeline_outputs(short_demo, tmp_path):
     # the default (the engine's defaults), then each score with the default rule, each rule
     # with the default score
     assert list(zip(table["score"], table["combine"], strict=True)) == [
-        ("glr", "chi2"), ("glr", "chi2"), ("overlap", "chi2"), ("glr", "geometric"),
+        ("glr", "chi2"),
+        ("glr", "chi2"),
+        ("overlap", "chi2"),
+        ("glr", "geometric"),
     ]
     written = write_outputs(res, tmp_path / "out")
     assert {p.name for p in written} >= {"reports.csv", "pairs.csv", "metrics.csv", "map.png"}
@@ -499,3 +507,45 @@ def test_pipeline_outputs(short_demo, tmp_path):
     # reports.csv is what `geofeas associate` reads
     again = geofeas.associate(geofeas.read_reports(tmp_path / "out" / "reports.csv"))
     assert len(again.pairs) == len(res.default.pairs)
+
+
+def test_calibrated_rule_beats_the_plain_mean(short_demo):
+    # the geometric mean of a long true pair drifts to 1/e, below the 0.5 borderline
+    runs = {(r.score, r.combine): r.metrics for r in short_demo.runs}
+    assert runs[("glr", "chi2")].f1 > runs[("glr", "geometric")].f1 + 0.3
+
+
+@pytest.mark.parametrize("sensors, bound", [("ais,radar", 0.9), ("ais,radar,aircraft,hfdf", 0.7)])
+def test_demo_command_end_to_end(tmp_path, capsys, sensors, bound):
+    from geofeas.cli import main
+
+    out = tmp_path / "demo"
+    args = [
+        "demo",
+        "--minutes",
+        "10",
+        "--sensors",
+        sensors,
+        "--out",
+        str(out),
+        "--score",
+        "glr",
+        "--combine",
+        "chi2",
+        "--no-progress",
+    ]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    assert "removed 1 row(s): physically impossible jump" in text
+    assert "precision" in text and "per score and combination rule" in text
+    for name in ("reports.csv", "pairs.csv", "metrics.csv", "metrics_by_sources.csv", "map.png"):
+        assert (out / name).stat().st_size > 0
+    metrics = pd.read_csv(out / "metrics.csv")
+    default = metrics.iloc[0]
+    assert default["config"] == "default" and default["combine"] == "chi2"
+    assert default["f1"] > bound
+    assert default["n_match"] + default["n_borderline"] + default["n_non-match"] == len(
+        pd.read_csv(out / "pairs.csv")
+    )
+    reports = pd.read_csv(out / "reports.csv")
+    assert set(reports["source"]) == set(sensors.split(","))

@@ -324,7 +324,8 @@ def plot_map(
     stamp = pd.Timestamp(t_c, unit="s").strftime("%Y-%m-%d %H:%M:%S")
     ax.set_title(
         f"AOUs (2-sigma) of the tracks reporting in the {window:g} s before {stamp} UTC,\n"
-        f"coloured by associated object (grey: not associated); score {result.default.score}"
+        "coloured by associated object (grey: alone); "
+        f"{result.default.score} / {result.default.combine}"
     )
     handles = [Line2D([], [], color="k", ls=ls, label=s) for s, ls in styles.items()]
     handles.append(Line2D([], [], color="k", marker=".", ls="", label="AIS report"))
