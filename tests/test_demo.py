@@ -320,6 +320,17 @@ def test_tracks_breaks_and_false_tracks(scenario):
     }
 
 
+def test_one_report_per_track_and_instant():
+    # a vessel crossing the radar's sweep start (north) is seen twice within milliseconds
+    # unless the twin plot is dropped; the New York scenario has such crossings
+    sc = simulate(read_ais(bundled("nyharbor")), seed=0)
+    r = sc.reports.assign(t=sc.seconds)
+    assert not r.duplicated(["track_id", "t"]).any()
+    gaps = r.sort_values("t").groupby("track_id")["t"].diff().dropna()
+    radar = r.loc[gaps.index, "source"] == "radar"
+    assert gaps[radar.to_numpy()].min() >= 1.5  # half a scan
+
+
 def test_seeded_and_sources_independent(solent):
     a = simulate(solent, seed=5, minutes=5, sensors=["radar", "aircraft"]).reports
     b = simulate(solent, seed=5, minutes=5, sensors=["aircraft", "radar", "hfdf"]).reports

@@ -568,6 +568,12 @@ def _tracker_reports(
     truth = np.concatenate([mmsi, np.full(int(f_track.max()) + 1 if len(f_track) else 0, -1)])
     order = np.lexsort((cols, rows))
     rows, cols, la, lo, t = rows[order], cols[order], la[order], lo[order], t[order]
+    # a vessel crossing the sweep's start (north) is seen at the end of one scan and again at
+    # the start of the next, milliseconds later: the plot extractor keeps one plot per scan
+    period = float(np.median(np.diff(times))) if len(times) > 1 else 1.0
+    twin = np.zeros(len(rows), dtype=bool)
+    twin[1:] = (rows[1:] == rows[:-1]) & (t[1:] - t[:-1] < 0.5 * period)
+    rows, cols, la, lo, t = rows[~twin], cols[~twin], la[~twin], lo[~twin], t[~twin]
     keep, number = _track_numbers(rows, cols, sensor.coast, sensor.confirm)
     rows, cols, la, lo, t = rows[keep], cols[keep], la[keep], lo[keep], t[keep]
     rx, ry, b = covariance(cols, la, lo)
@@ -792,7 +798,12 @@ def simulate(
     if not frames:
         raise GeofeasError("no sensor given")
     out = pd.concat(frames, ignore_index=True)
-    out = out.sort_values(["t", "source", "track_id"], kind="stable").reset_index(drop=True)
+    out["t"] = np.round(out["t"].to_numpy(np.float64), 3)  # times are written to the millisecond
+    out = out.sort_values(["t", "source", "track_id"], kind="stable")
+    # two reports of one track at one millisecond (two HF DF fixes drawn at the same instant)
+    same = out.duplicated(["track_id", "t"], keep="first").to_numpy()
+    geo["same_time_reports_dropped"] = int(same.sum())
+    out = out[~same].reset_index(drop=True)
     seconds = out.pop("t").to_numpy(np.float64)
     out.insert(2, "time", _iso(seconds))
     return Scenario(out[list(REPORT_COLUMNS)], seconds, geo)
