@@ -8,7 +8,8 @@ of the duplicate-track pairs, the candidate pairs per triage class and the time 
 default configuration and for every score and combination rule. Writes into ``--out``:
 ``reports.csv`` (the simulated reports, with the truth column ``mmsi``; ``geofeas associate``
 reads it), ``pairs.csv`` (the default association's candidate pairs with the truth),
-``metrics.csv`` (one row per score and combination rule), ``metrics_by_sources.csv`` and
+``metrics.csv`` and ``metrics.md`` (one row per score and combination rule),
+``metrics_by_sources.csv`` and
 ``map.png`` (AOUs of a busy area coloured by associated object; needs matplotlib).
 """
 

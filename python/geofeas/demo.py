@@ -338,8 +338,9 @@ def plot_map(
 
 
 def write_outputs(result: DemoResult, out: str | Path, *, map_png: bool = True) -> list[Path]:
-    """Write ``reports.csv``, ``pairs.csv`` (default association, with the truth), ``metrics.csv``
-    and ``map.png`` into ``out``; returns the paths written."""
+    """Write ``reports.csv``, ``pairs.csv`` (default association, with the truth), ``metrics.csv``,
+    ``metrics.md`` (the table in Markdown), ``metrics_by_sources.csv`` and ``map.png`` into
+    ``out``; returns the paths written."""
     d = Path(out)
     d.mkdir(parents=True, exist_ok=True)
     written = []
@@ -361,6 +362,9 @@ def write_outputs(result: DemoResult, out: str | Path, *, map_png: bool = True) 
     p = d / "metrics.csv"
     result.metrics_table().to_csv(p, index=False, float_format="%.4f")
     written.append(p)
+    p = d / "metrics.md"
+    p.write_text(markdown_table(result), encoding="utf-8")
+    written.append(p)
     if result.default.metrics.by_sources is not None:
         p = d / "metrics_by_sources.csv"
         result.default.metrics.by_sources.to_csv(p, index=False, float_format="%.4f")
@@ -368,6 +372,24 @@ def write_outputs(result: DemoResult, out: str | Path, *, map_png: bool = True) 
     if map_png:
         written.append(plot_map(result, d / "map.png"))
     return written
+
+
+def markdown_table(result: DemoResult) -> str:
+    """The comparison table (one row per score and combination rule) in Markdown."""
+    lines = [
+        "| score | combine | precision | recall | F1 | match | borderline | non-match | time (s) |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in result.runs or [result.default]:
+        m = r.metrics
+        name = f"**{r.score}**" if r is result.default else r.score
+        rule = f"**{r.combine}**" if r is result.default else r.combine
+        lines.append(
+            f"| {name} | {rule} | {fmt(m.precision)} | {fmt(m.recall)} | {fmt(m.f1)} | "
+            f"{m.classes['match']} | {m.classes['borderline']} | {m.classes['non-match']} | "
+            f"{m.seconds:.1f} |"
+        )
+    return "\n".join(lines) + "\n"
 
 
 def fmt(v: float) -> str:
