@@ -1,0 +1,177 @@
+"""``geofeas demo``: the whole pipeline on a real AIS recording.
+
+Reads and cleans the recording (reporting every removed row and corrected value), simulates
+several sources observing its vessels (AIS self-reports, a coastal radar, a patrol aircraft, an
+HF direction-finding net; each with its own track numbers, dropouts and false tracks), associates
+their reports and scores the association against the MMSI ground truth: precision, recall and F1
+of the duplicate-track pairs, the candidate pairs per triage class and the time taken, for the
+default configuration and for every score and combination rule. Writes into ``--out``:
+``reports.csv`` (the simulated reports, with the truth column ``mmsi``; ``geofeas associate``
+reads it), ``pairs.csv`` (the default association's candidate pairs with the truth),
+``metrics.csv`` and ``metrics.md`` (one row per score and combination rule),
+``metrics_by_sources.csv`` and
+``map.png`` (AOUs of a busy area coloured by associated object; needs matplotlib).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+from ._core import GeofeasError
+
+# the names only (the modules need pandas, imported when the command runs); tests check that
+# they match geofeas.scenario.SENSORS, geofeas.demo.SCORES and geofeas.demo.RECORDINGS
+SENSORS = ("ais", "radar", "aircraft", "hfdf")
+SCORES = ("glr", "glr_threshold", "overlap", "monte_carlo")
+RECORDINGS = ("solent", "nyharbor")
+
+
+def _sensors(text: str) -> list[str]:
+    names = [s.strip() for s in text.split(",") if s.strip()]
+    bad = [s for s in names if s not in SENSORS]
+    if bad or not names:
+        raise argparse.ArgumentTypeError(
+            f"unknown sensor(s) {', '.join(bad) or '(none)'}; choose from {', '.join(SENSORS)}"
+        )
+    return names
+
+
+def main(args: argparse.Namespace) -> int:
+    try:
+        from .demo import fmt, run, write_outputs
+    except ImportError as exc:
+        raise GeofeasError(f"demo needs pandas: pip install 'geofeas[io]' ({exc})") from None
+    options: dict[str, Any] = {}
+    if args.lower is not None:
+        options["lower"] = args.lower
+    if args.upper is not None:
+        options["upper"] = args.upper
+    scores = args.score if args.score else list(SCORES)
+    result = run(
+        args.ais,
+        sensors=args.sensors,
+        seed=args.seed,
+        minutes=args.minutes,
+        scores=scores,
+        combines=args.combine,
+        grid=args.grid,
+        options=options,
+        progress=not args.no_progress,
+        log=print,
+    )
+    sc = result.scenario
+    print(f"\nsimulated sources (seed {args.seed}):")
+    counts = sc.counts()
+    med = sc.reports.groupby("source")[["rx", "ry"]].median()
+    print(
+        f"  {'source':<9}{'reports':>9}{'tracks':>8}{'false':>7}{'vessels':>9}"
+        f"   median 2-sigma AOU (m)"
+    )
+    for s, row in counts.iterrows():
+        print(
+            f"  {s:<9}{row['reports']:>9}{row['tracks']:>8}{row['false_tracks']:>7}"
+            f"{row['vessels']:>9}   {med.loc[s, 'rx']:.0f} x {med.loc[s, 'ry']:.0f}"
+        )
+    d = result.default
+    m = d.metrics
+    print(f"\ndefault association (score {d.score}, combine {d.combine}): {m.seconds:.2f} s")
+    print(
+        f"  candidate pairs: {m.classes['match']} match, {m.classes['borderline']} borderline, "
+        f"{m.classes['non-match']} non-match"
+    )
+    print(
+        f"  true duplicate-track pairs: {m.true_pairs}; of them {m.true_in_class['match']} "
+        f"match, {m.true_in_class['borderline']} borderline, "
+        f"{m.true_in_class['non-match']} non-match, {m.true_not_candidates} not candidates"
+    )
+    print(
+        f"  precision {fmt(m.precision)}  recall {fmt(m.recall)}  F1 {fmt(m.f1)}  "
+        f"({m.tp} TP, {m.fp} FP of which {m.fp_with_false_track} with a false track, "
+        f"{m.fn} FN)"
+    )
+    print(
+        f"  missed true pairs: {m.fn_demoted} scored a match but the grouping demoted them, "
+        f"{m.fn - m.fn_demoted} scored lower"
+    )
+    if m.object_f1 == m.object_f1:
+        print(
+            f"  pairs implied by the objects: precision {fmt(m.object_precision)}  "
+            f"recall {fmt(m.object_recall)}  F1 {fmt(m.object_f1)}"
+        )
+    if m.by_sources is not None and len(m.by_sources):
+        print("  by source pair:")
+        for _, r in m.by_sources.iterrows():
+            print(
+                f"    {r['sources']:<16} true {r['true_pairs']:>5}  predicted "
+                f"{r['predicted']:>5}  P {fmt(r['precision'])}  R {fmt(r['recall'])}  "
+                f"F1 {fmt(r['f1'])}"
+            )
+    if result.runs:
+        print("\nper score and combination rule:")
+        print(
+            f"  {'score':<14}{'combine':<14}{'precision':>10}{'recall':>8}{'F1':>7}"
+            f"{'match':>8}{'border':>8}{'non':>8}{'time s':>8}"
+        )
+        for one in result.runs:
+            x = one.metrics
+            print(
+                f"  {one.score:<14}{one.combine:<14}{fmt(x.precision):>10}{fmt(x.recall):>8}"
+                f"{fmt(x.f1):>7}{x.classes['match']:>8}{x.classes['borderline']:>8}"
+                f"{x.classes['non-match']:>8}{x.seconds:>8.2f}"
+            )
+    written = write_outputs(result, args.out, map_png=not args.no_map)
+    print(f"\nwrote {', '.join(str(p) for p in written)}")
+    return 0
+
+
+def add_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "demo",
+        help="simulate sources over a real AIS recording, associate, score against the truth",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument(
+        "--ais",
+        default="solent",
+        metavar="PATH",
+        help=f"AIS CSV (Solent or MarineCadastre schema) or a bundled one: "
+        f"{', '.join(RECORDINGS)} (default solent)",
+    )
+    p.add_argument(
+        "--sensors",
+        type=_sensors,
+        default=list(SENSORS),
+        help=f"comma-separated sources (default {','.join(SENSORS)})",
+    )
+    p.add_argument("--seed", type=int, default=0, help="simulation seed (default 0)")
+    p.add_argument("--minutes", type=float, default=None, help="use only the first minutes")
+    p.add_argument("--out", "-o", default="demo", help="output directory (default demo/)")
+    p.add_argument(
+        "--score",
+        action="append",
+        choices=list(SCORES),
+        help="score of the comparison table (repeatable; default all)",
+    )
+    p.add_argument(
+        "--combine",
+        action="append",
+        help="combination rule of the comparison table (repeatable; default all)",
+    )
+    p.add_argument("--lower", type=float, default=None, help="triage: non-match below")
+    p.add_argument("--upper", type=float, default=None, help="triage: match at or above")
+    p.add_argument(
+        "--grid",
+        action="store_true",
+        help="table over every score x rule (default: each score with the default rule and "
+        "each rule with glr)",
+    )
+    p.add_argument("--no-map", action="store_true", help="do not draw map.png")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    p.set_defaults(func=main)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(0)
