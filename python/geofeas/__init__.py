@@ -6,6 +6,7 @@ Scores"), computed in a Rust core.
 """
 
 from ._core import GeofeasError, __version__
+from .association import Association, Reports, associate, combine_instants, read_reports
 from .scores import (
     DEFAULT_VERTICES,
     cdist,
@@ -17,6 +18,11 @@ from .scores import (
 )
 
 __all__ = [
+    "Association",
+    "Reports",
+    "associate",
+    "combine_instants",
+    "read_reports",
     "DEFAULT_VERTICES",
     "GeofeasError",
     "__version__",

@@ -12,6 +12,7 @@ from ._core import GeofeasError, __version__
 
 #: Modules providing sub-commands, in the order ``--help`` lists them.
 SUBCOMMANDS = ["_cli_score", "_cli_mht"]
+SUBCOMMANDS.append("_cli_associate")
 
 
 def build_parser() -> argparse.ArgumentParser:

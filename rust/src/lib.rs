@@ -9,6 +9,8 @@
 //! - [`score::Polygon`]: the normalised overlap area (eqs. 49-50) on polygonised ellipses.
 //! - [`score::MonteCarlo`]: the importance-sampling estimator of eq. 55.
 //! - [`score::score_pairs`] / [`score::score_cdist`]: the parallel batch drivers shared by all.
+//! - [`association`]: track-to-track association at scale: reports, time alignment, the
+//!   calibrated combination of per-instant scores, a space-time candidate index and grouping.
 //! - [`tracking::mht`]: multiple-hypothesis trilateration and tracking with distributed radars
 //!   (seed 004), whose Cartesian tracks give AOU ellipses for the scores.
 //!
@@ -22,6 +24,7 @@
 //! assert!(g > 0.6 && g < 0.7);
 //! ```
 
+pub mod association;
 pub mod ellipse;
 pub mod error;
 pub mod fastmath;

@@ -4,6 +4,7 @@
 use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 
+mod association;
 mod mht;
 mod scores;
 
@@ -44,5 +45,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("GeofeasError", m.py().get_type::<GeofeasError>())?;
     scores::register(m)?;
     mht::register(m)?;
+    association::register(m)?;
     Ok(())
 }

@@ -1,0 +1,617 @@
+"""Track-to-track association: read reports, score every candidate track pair over its common
+instants, triage the pairs and group duplicate tracks into objects.
+
+The numerics (time alignment, geodesy, combination, the space-time index, grouping) run in the
+Rust core (``geofeas._core.associate``); this module does the I/O with pandas / pyarrow,
+vectorised validation with errors naming the row (or the file line), and the conversion of ids.
+See ``docs/association.md`` for the model.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import _core
+from ._core import GeofeasError
+
+if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+
+__all__ = [
+    "Association",
+    "COMBINE_RULES",
+    "DEFAULT_UPPER",
+    "Reports",
+    "associate",
+    "combine_instants",
+    "read_reports",
+]
+
+#: Columns of a planar report: metres east / north, 2-sigma semi-axes (m), radians from north.
+PLANAR = ("x", "y", "rx", "ry", "phi")
+#: Columns of a geographic report: degrees WGS84, 2-sigma semi-axes (m), degrees from north.
+GEOGRAPHIC = ("lat", "lon", "rx", "ry", "bearing")
+#: Columns every report needs.
+REQUIRED = ("track_id", "source", "time")
+#: Combination rules of :func:`associate` (``"chi2"`` is the calibrated default).
+COMBINE_RULES = ("chi2", "pvalue", "geometric", "harmonic", "arithmetic", "min")
+#: Scores of :func:`associate` (``"glr_threshold"`` is ``"glr"`` with ``threshold=True``).
+SCORES = ("glr", "glr_threshold", "overlap", "monte_carlo")
+#: Default match threshold: the ``"chi2"`` score of a fit like one instant 2 sigma apart.
+DEFAULT_UPPER: float = _core.association_default_upper()
+CLASSES = np.array(["match", "borderline", "non-match"], dtype=object)
+
+_SCORE_OPTIONS = ("threshold", "method", "vertices", "samples", "seed")
+
+
+def _pandas() -> Any:
+    try:
+        import pandas as pd
+    except ImportError:  # pragma: no cover - depends on the environment
+        raise GeofeasError(
+            "geofeas association needs pandas (and pyarrow for Parquet): "
+            "pip install 'geofeas[io]'"
+        ) from None
+    return pd
+
+
+class Reports:
+    """Validated reports ``(track_id, source, time, position, AOU)``, ready for
+    :func:`associate`. Build them with :func:`read_reports`.
+
+    Attributes
+    ----------
+    frame : pandas.DataFrame
+        The table as read, every column kept (extra columns included).
+    coords : str
+        ``"planar"`` or ``"geographic"``.
+    track_ids, sources : numpy.ndarray
+        The distinct track ids and sources, sorted; ``track`` and ``source`` index them.
+    track, source : numpy.ndarray of uint32
+        Per report, the index of its track id and its source.
+    time : numpy.ndarray of float64
+        Seconds (ISO-8601 times are seconds since 1970-01-01 UTC).
+    aou : numpy.ndarray of float64, shape (n, 5)
+        ``x, y, rx, ry, phi`` or ``lat, lon, rx, ry, bearing``.
+    """
+
+    def __init__(
+        self,
+        frame: pd.DataFrame,
+        *,
+        coords: str,
+        track_ids: NDArray[Any],
+        track: NDArray[np.uint32],
+        sources: NDArray[Any],
+        source: NDArray[np.uint32],
+        time: NDArray[np.float64],
+        aou: NDArray[np.float64],
+    ) -> None:
+        self.frame = frame
+        self.coords = coords
+        self.track_ids = track_ids
+        self.track = track
+        self.sources = sources
+        self.source = source
+        self.time = time
+        self.aou = aou
+
+    def __len__(self) -> int:
+        return int(self.time.shape[0])
+
+    @property
+    def n_tracks(self) -> int:
+        """Number of distinct tracks."""
+        return int(self.track_ids.shape[0])
+
+    def __repr__(self) -> str:
+        return (
+            f"Reports({len(self)} reports, {self.n_tracks} tracks, "
+            f"{len(self.sources)} sources, {self.coords})"
+        )
+
+    def _core_args(self) -> tuple[Any, ...]:
+        return (self.track, self.source, self.time, self.aou, self.n_tracks)
+
+
+class _Where:
+    """Names a row of the input in errors: a file line (header = line 1) or a table row."""
+
+    def __init__(self, path: str | None, lines: bool) -> None:
+        self.path = path
+        self.lines = lines
+
+    def __call__(self, row: int) -> str:
+        where = f"line {row + 2}" if self.lines else f"row {row}"
+        return f"{self.path}: {where}" if self.path else where
+
+
+def _read_table(source: Any) -> tuple[pd.DataFrame, _Where]:
+    pd = _pandas()
+    if isinstance(source, (str, os.PathLike)):
+        path = Path(source)
+        suffix = path.suffix.lower()
+        try:
+            if suffix == ".csv":
+                frame = pd.read_csv(path, skip_blank_lines=False, skipinitialspace=True)
+                return frame, _Where(str(path), lines=True)
+            if suffix in (".parquet", ".pq"):
+                return pd.read_parquet(path), _Where(str(path), lines=False)
+        except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+            raise GeofeasError(f"{path}: {exc}") from None
+        except ImportError as exc:  # pragma: no cover - pyarrow missing
+            raise GeofeasError(f"{path}: reading Parquet needs pyarrow ({exc})") from None
+        raise GeofeasError(f"{path}: unknown file type {suffix!r} (expected .csv or .parquet)")
+    if isinstance(source, pd.DataFrame):
+        return source.reset_index(drop=True), _Where(None, lines=False)
+    if isinstance(source, Mapping):
+        try:
+            return pd.DataFrame(dict(source)), _Where(None, lines=False)
+        except ValueError as exc:
+            raise GeofeasError(f"reports: cannot build a table from the columns ({exc})") from None
+    raise GeofeasError(
+        "reports: expected a path to a .csv / .parquet file, a pandas DataFrame, a dict of "
+        f"column arrays or a Reports; got {type(source).__name__}"
+    )
+
+
+def _first(mask: NDArray[np.bool_]) -> int:
+    return int(np.flatnonzero(mask)[0])
+
+
+def _ids(frame: pd.DataFrame, column: str, where: _Where) -> tuple[NDArray[Any], NDArray[Any]]:
+    """Sorted distinct ids of ``column`` and the index of each row's id. Strings sort as
+    strings, numbers numerically; a column mixing both is refused."""
+    pd = _pandas()
+    col = frame[column]
+    missing = col.isna().to_numpy()
+    if missing.any():
+        raise GeofeasError(f"{where(_first(missing))}: column {column}: missing value")
+    kind = pd.api.types.infer_dtype(col, skipna=False)
+    if kind in ("integer", "floating", "mixed-integer-float", "boolean"):
+        values = col.to_numpy()
+        if values.dtype.kind == "f":
+            bad = ~np.isfinite(values)
+            if bad.any():
+                raise GeofeasError(f"{where(_first(bad))}: column {column}: {values[bad][0]}")
+    elif kind == "string":
+        values = col.astype(str).to_numpy(dtype=object)
+    else:
+        types = col.map(type).to_numpy()
+        first = types[0]
+        row = _first(types != first) if (types != first).any() else 0
+        raise GeofeasError(
+            f"{where(row)}: column {column}: ids must be all strings or all numbers "
+            f"(found {kind} values, e.g. {col.iloc[row]!r})"
+        )
+    try:
+        uniq, inverse = np.unique(values, return_inverse=True)
+    except TypeError as exc:  # pragma: no cover - guarded above
+        raise GeofeasError(f"column {column}: ids cannot be ordered ({exc})") from None
+    return uniq, inverse.reshape(-1).astype(np.uint32)
+
+
+def _times(frame: pd.DataFrame, where: _Where) -> NDArray[np.float64]:
+    pd = _pandas()
+    col = frame["time"]
+    missing = col.isna().to_numpy()
+    if missing.any():
+        raise GeofeasError(f"{where(_first(missing))}: column time: missing value")
+    if pd.api.types.is_datetime64_any_dtype(col):
+        dt = pd.to_datetime(col, utc=True)
+    elif pd.api.types.is_numeric_dtype(col) and not pd.api.types.is_bool_dtype(col):
+        t = col.to_numpy(dtype=np.float64)
+        bad = ~np.isfinite(t)
+        if bad.any():
+            raise GeofeasError(f"{where(_first(bad))}: column time: {t[bad][0]} is not finite")
+        return np.ascontiguousarray(t)
+    else:
+        text = col.astype(str)
+        numeric = pd.to_numeric(text, errors="coerce")
+        if not numeric.isna().any():
+            return _times(frame.assign(time=numeric), where)
+        try:
+            dt = pd.to_datetime(text, utc=True, errors="coerce", format="ISO8601")
+        except (ValueError, TypeError):  # pragma: no cover - pandas < 2
+            dt = pd.to_datetime(text, utc=True, errors="coerce")
+        bad = dt.isna().to_numpy()
+        if bad.any():
+            row = _first(bad)
+            raise GeofeasError(
+                f"{where(row)}: column time: {text.iloc[row]!r} is neither seconds nor an "
+                "ISO-8601 time"
+            )
+    epoch = pd.Timestamp("1970-01-01", tz="UTC")
+    return np.ascontiguousarray(((dt - epoch) / pd.Timedelta(seconds=1)).to_numpy(np.float64))
+
+
+def _numbers(frame: pd.DataFrame, columns: tuple[str, ...], where: _Where) -> NDArray[np.float64]:
+    pd = _pandas()
+    out = np.empty((len(frame), len(columns)), dtype=np.float64)
+    for k, name in enumerate(columns):
+        col = frame[name]
+        missing = col.isna().to_numpy()
+        if missing.any():
+            raise GeofeasError(f"{where(_first(missing))}: column {name}: missing value")
+        if pd.api.types.is_bool_dtype(col):
+            raise GeofeasError(f"{where(0)}: column {name}: booleans are not numbers")
+        values = pd.to_numeric(col, errors="coerce")
+        bad = values.isna().to_numpy()
+        if bad.any():
+            row = _first(bad)
+            raise GeofeasError(
+                f"{where(row)}: column {name}: {col.iloc[row]!r} is not a number"
+            )
+        v = values.to_numpy(dtype=np.float64)
+        bad = ~np.isfinite(v)
+        if bad.any():
+            raise GeofeasError(f"{where(_first(bad))}: column {name}: {v[bad][0]} is not finite")
+        out[:, k] = v
+    for k in (2, 3):
+        bad = out[:, k] <= 0
+        if bad.any():
+            row = _first(bad)
+            raise GeofeasError(
+                f"{where(row)}: column {columns[k]}: {out[row, k]} must be > 0 "
+                "(2-sigma semi-axis in metres)"
+            )
+    if columns == GEOGRAPHIC:
+        bad = np.abs(out[:, 0]) > 90
+        if bad.any():
+            row = _first(bad)
+            raise GeofeasError(f"{where(row)}: column lat: {out[row, 0]} is outside [-90, 90]")
+    return out
+
+
+def read_reports(source: Any, /, *, coords: str = "auto") -> Reports:
+    """Read and validate reports.
+
+    Parameters
+    ----------
+    source : path, pandas.DataFrame, dict of arrays or Reports
+        A ``.csv`` or ``.parquet`` file, or a table, with the columns ``track_id``, ``source``,
+        ``time`` (seconds, or ISO-8601 strings read as UTC) and either ``x, y, rx, ry, phi``
+        (planar: metres, ``phi`` in radians clockwise from north) or ``lat, lon, rx, ry,
+        bearing`` (geographic: degrees WGS84, 2-sigma semi-axes in metres, ``bearing`` of the
+        ``rx`` axis in degrees clockwise from true north). Extra columns are kept in
+        :attr:`Reports.frame` and otherwise ignored.
+    coords : {"auto", "planar", "geographic"}
+        ``"auto"`` picks the mode from the columns present.
+
+    Returns
+    -------
+    Reports
+
+    Raises
+    ------
+    GeofeasError
+        Naming the row (table) or line (CSV file) of the first bad value: a missing column or
+        value, a non-number, NaN or infinity, a non-positive semi-axis, a latitude outside
+        ``[-90, 90]``, ids mixing strings and numbers, a track reported by two sources, or
+        two reports of one track at the same time. Nothing is dropped silently.
+    """
+    if isinstance(source, Reports):
+        return source
+    frame, where = _read_table(source)
+    frame.columns = [str(c).strip() for c in frame.columns]
+    missing = [c for c in REQUIRED if c not in frame.columns]
+    if missing:
+        raise GeofeasError(f"reports: missing column(s) {', '.join(missing)}")
+    has_planar = all(c in frame.columns for c in PLANAR)
+    has_geo = all(c in frame.columns for c in GEOGRAPHIC)
+    if coords == "auto":
+        if has_planar and has_geo:
+            raise GeofeasError(
+                "reports: both planar (x, y, rx, ry, phi) and geographic (lat, lon, rx, ry, "
+                "bearing) columns are present; pass coords='planar' or coords='geographic'"
+            )
+        if not (has_planar or has_geo):
+            raise GeofeasError(
+                "reports: expected the columns x, y, rx, ry, phi (planar) or lat, lon, rx, ry, "
+                f"bearing (geographic); got {', '.join(map(str, frame.columns))}"
+            )
+        coords = "planar" if has_planar else "geographic"
+    if coords not in ("planar", "geographic"):
+        raise GeofeasError(f"coords: expected 'auto', 'planar' or 'geographic', got {coords!r}")
+    columns = PLANAR if coords == "planar" else GEOGRAPHIC
+    absent = [c for c in columns if c not in frame.columns]
+    if absent:
+        raise GeofeasError(f"reports: {coords} mode needs the column(s) {', '.join(absent)}")
+    track_ids, track = _ids(frame, "track_id", where)
+    sources, src = _ids(frame, "source", where)
+    time = _times(frame, where)
+    aou = _numbers(frame, columns, where)
+    n = len(frame)
+    if n:
+        # one source per track
+        order = np.lexsort((np.arange(n), track))
+        same_track = track[order][1:] == track[order][:-1]
+        other_source = src[order][1:] != src[order][:-1]
+        bad = same_track & other_source
+        if bad.any():
+            k = _first(bad)
+            a, b = sorted((int(order[k]), int(order[k + 1])))
+            raise GeofeasError(
+                f"{where(b)}: track {track_ids[track[b]]!r} has source {sources[src[b]]!r} but "
+                f"{where(a)} gives it source {sources[src[a]]!r}"
+            )
+        # distinct times within a track
+        order = np.lexsort((np.arange(n), time, track))
+        dup = (track[order][1:] == track[order][:-1]) & (time[order][1:] == time[order][:-1])
+        if dup.any():
+            k = _first(dup)
+            a, b = sorted((int(order[k]), int(order[k + 1])))
+            raise GeofeasError(
+                f"{where(b)}: track {track_ids[track[b]]!r} already has a report at this time "
+                f"({where(a)}); remove or merge duplicate reports"
+            )
+    return Reports(
+        frame,
+        coords=coords,
+        track_ids=track_ids,
+        track=np.ascontiguousarray(track, dtype=np.uint32),
+        sources=sources,
+        source=np.ascontiguousarray(src, dtype=np.uint32),
+        time=time,
+        aou=np.ascontiguousarray(aou),
+    )
+
+
+class Association:
+    """The result of :func:`associate`.
+
+    Attributes
+    ----------
+    pairs : pandas.DataFrame
+        One row per candidate pair with at least one common instant: ``track_a``, ``track_b``
+        (the user's ids, ``track_a < track_b``: string order for string ids, numeric order for
+        numbers), ``score``, ``instants`` and ``class`` (``"match"``, ``"borderline"`` or
+        ``"non-match"``), sorted by ``(track_a, track_b)``.
+    objects : pandas.DataFrame
+        ``track_id``, ``object`` (one id per ship: the grouping of duplicate tracks across
+        sources) and ``source``, one row per track.
+    reports : Reports
+        The input.
+    candidates : int
+        Number of candidate pairs the space-time index returned (before dropping those without
+        a common instant).
+    options : dict
+        The options used.
+    """
+
+    def __init__(
+        self, reports: Reports, raw: Mapping[str, Any], options: dict[str, Any]
+    ) -> None:
+        pd = _pandas()
+        self.reports = reports
+        self.options = options
+        self.candidates = int(raw["candidates"])
+        a = np.asarray(raw["a"], dtype=np.intp)
+        b = np.asarray(raw["b"], dtype=np.intp)
+        self._a, self._b = a, b
+        self._score = np.asarray(raw["score"])
+        ids = reports.track_ids
+        self.pairs = pd.DataFrame(
+            {
+                "track_a": ids[a],
+                "track_b": ids[b],
+                "score": self._score,
+                "instants": np.asarray(raw["instants"], dtype=np.int64),
+                "class": CLASSES[np.asarray(raw["class"], dtype=np.intp)],
+            }
+        )
+        obj = np.asarray(raw["object"], dtype=np.int64)
+        per_track_source = np.empty(reports.n_tracks, dtype=np.intp)
+        per_track_source[reports.track] = reports.source
+        self.objects = pd.DataFrame(
+            {
+                "track_id": ids,
+                "object": obj,
+                "source": reports.sources[per_track_source] if reports.n_tracks else [],
+            }
+        )
+
+    def __repr__(self) -> str:
+        counts = self.pairs["class"].value_counts()
+        parts = ", ".join(f"{int(counts.get(c, 0))} {c}" for c in CLASSES)
+        return f"Association({len(self.pairs)} pairs: {parts}; {self.objects['object'].nunique()} objects)"
+
+    @property
+    def matches(self) -> pd.DataFrame:
+        """The pairs classed ``"match"``."""
+        return self.pairs[self.pairs["class"] == "match"].reset_index(drop=True)
+
+    def assignment(self, source_a: Any, source_b: Any, *, min_score: float | None = None) -> pd.DataFrame:
+        """One-to-one assignment between the tracks of two sources maximising the total score
+        (Hungarian algorithm per connected component of the sparse candidate graph, in Rust).
+
+        Parameters
+        ----------
+        source_a, source_b : source names
+        min_score : float, optional
+            Pairs scoring below are not used (default: the ``lower`` threshold).
+
+        Returns
+        -------
+        pandas.DataFrame
+            The chosen rows of :attr:`pairs`.
+        """
+        srcs = list(self.reports.sources)
+        for s in (source_a, source_b):
+            if s not in srcs:
+                raise GeofeasError(f"assignment: unknown source {s!r} (have {srcs})")
+        ia, ib = srcs.index(source_a), srcs.index(source_b)
+        track_source = np.empty(self.reports.n_tracks, dtype=np.intp)
+        track_source[self.reports.track] = self.reports.source
+        sa, sb = track_source[self._a], track_source[self._b]
+        fwd = (sa == ia) & (sb == ib)
+        rev = (sa == ib) & (sb == ia)
+        rows = np.flatnonzero(fwd | rev)
+        left = np.where(fwd[rows], self._a[rows], self._b[rows]).astype(np.uint32)
+        right = np.where(fwd[rows], self._b[rows], self._a[rows]).astype(np.uint32)
+        thr = self.options["lower"] if min_score is None else float(min_score)
+        chosen = _core.assign_one_to_one(
+            np.ascontiguousarray(left),
+            np.ascontiguousarray(right),
+            np.ascontiguousarray(self._score[rows], dtype=np.float64),
+            min_score=thr,
+        )
+        return self.pairs.iloc[rows[np.asarray(chosen, dtype=np.intp)]].reset_index(drop=True)
+
+    def to_file(self, path: str | os.PathLike[str]) -> None:
+        """Write :attr:`pairs` to a ``.csv`` or ``.parquet`` file (by extension)."""
+        write_table(self.pairs, path)
+
+
+def write_table(frame: pd.DataFrame, path: str | os.PathLike[str]) -> None:
+    """Write a table to ``.csv`` or ``.parquet`` by extension."""
+    p = Path(path)
+    suffix = p.suffix.lower()
+    if suffix == ".csv":
+        frame.to_csv(p, index=False)
+    elif suffix in (".parquet", ".pq"):
+        try:
+            frame.to_parquet(p, index=False)
+        except ImportError as exc:  # pragma: no cover
+            raise GeofeasError(f"{p}: writing Parquet needs pyarrow ({exc})") from None
+    else:
+        raise GeofeasError(f"{p}: unknown file type {suffix!r} (expected .csv or .parquet)")
+
+
+def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, Any]]:
+    unknown = sorted(set(options) - set(_SCORE_OPTIONS))
+    if unknown:
+        raise TypeError(f"associate() got unexpected option(s) {', '.join(unknown)}")
+    opts = dict(options)
+    if score == "glr_threshold":
+        score = "glr"
+        opts["threshold"] = True
+    if score not in SCORES:
+        raise GeofeasError(f"score: unknown score {score!r} (expected one of {SCORES})")
+    if opts.get("seed") is None:
+        opts.pop("seed", None)
+    return score, opts
+
+
+def associate(
+    reports: Any,
+    /,
+    *,
+    score: str = "glr",
+    combine: str = "chi2",
+    lower: float = 0.5,
+    upper: float = DEFAULT_UPPER,
+    max_gap: float = 300.0,
+    horizon: float = 0.0,
+    process_noise: float = 2.0,
+    same_source: bool = False,
+    correlation_time: float = 60.0,
+    window: float = 300.0,
+    **score_options: Any,
+) -> Association:
+    """Score every candidate track pair and group duplicate tracks into objects.
+
+    Parameters
+    ----------
+    reports : Reports or anything :func:`read_reports` accepts
+    score : {"glr", "glr_threshold", "overlap", "monte_carlo"}
+        Per-instant geofeasibility score (seed 000).
+    combine : {"chi2", "pvalue", "geometric", "harmonic", "arithmetic", "min"}
+        How the per-instant scores of a pair become one score. ``"chi2"`` (default) is the
+        calibrated chi-square test of the summed Mahalanobis distances on the operator scale:
+        0.5 means "fits like one instant 3 sigma apart", whatever the number of instants;
+        ``"pvalue"`` is the test's p-value (uniform for true pairs). The others are the plain
+        means of the paper.
+    lower, upper : float
+        Pairs scoring below ``lower`` are ``"non-match"``; at least ``upper``, ``"match"``
+        candidates (then kept only if the grouping allows); between, ``"borderline"``.
+        Defaults 0.5 (the paper's "best borderline") and :data:`DEFAULT_UPPER` (0.735).
+    max_gap : float
+        Longest gap between two reports of a track that is interpolated (s).
+    horizon : float
+        How far a track is extrapolated beyond its first / last report (s).
+    process_noise : float
+        Diffusion ``q`` (m^2/s) of the position around straight-line motion, added to the
+        covariance of interpolated and extrapolated states.
+    same_source : bool
+        Whether pairs of tracks from the same source are compared (default: not).
+    correlation_time : float
+        Error correlation time (s) for the effective number of instants of ``"chi2"`` /
+        ``"pvalue"``; 0 treats instants as independent.
+    window : float
+        Longest time span of one chunk of the space-time index (s); affects speed only.
+    **score_options
+        ``threshold`` (glr), ``method`` and ``vertices`` (overlap), ``samples`` and ``seed``
+        (monte_carlo).
+
+    Returns
+    -------
+    Association
+    """
+    rep = read_reports(reports)
+    name, opts = _score_options(score, score_options)
+    options = dict(
+        score=score,
+        combine=combine,
+        lower=float(lower),
+        upper=float(upper),
+        max_gap=float(max_gap),
+        horizon=float(horizon),
+        process_noise=float(process_noise),
+        same_source=bool(same_source),
+        correlation_time=float(correlation_time),
+        window=float(window),
+        **score_options,
+    )
+    raw = _core.associate(
+        *rep._core_args(),
+        geographic=rep.coords == "geographic",
+        score=name,
+        combine=combine,
+        lower=float(lower),
+        upper=float(upper),
+        max_gap=float(max_gap),
+        horizon=float(horizon),
+        process_noise=float(process_noise),
+        same_source=bool(same_source),
+        correlation_time=float(correlation_time),
+        window=float(window),
+        **opts,
+    )
+    return Association(rep, raw, options)
+
+
+def combine_instants(
+    g: Any,
+    m: Any | None = None,
+    time: Any | None = None,
+    /,
+    *,
+    rule: str = "chi2",
+    correlation_time: float = 0.0,
+) -> float:
+    """Combine the per-instant scores ``g`` of one track pair by ``rule`` (as
+    :func:`associate` does). ``m`` are the squared Mahalanobis distances (default
+    ``-2 ln g``, exact for the GLR), ``time`` the instants' times (default ``0, 1, ...``)."""
+    gg = np.ascontiguousarray(np.asarray(g, dtype=np.float64).reshape(-1))
+    if m is None:
+        with np.errstate(divide="ignore"):
+            mm = -2.0 * np.log(gg)
+    else:
+        mm = np.asarray(m, dtype=np.float64).reshape(-1)
+    tt = np.arange(len(gg), dtype=np.float64) if time is None else np.asarray(time, np.float64)
+    out = _core.combine_instants(
+        gg,
+        np.ascontiguousarray(mm),
+        np.ascontiguousarray(tt.reshape(-1)),
+        np.array([0, len(gg)], dtype=np.uint64),
+        rule,
+        correlation_time=float(correlation_time),
+    )
+    return float(out[0])

@@ -1,0 +1,311 @@
+//! Time alignment: a track's centre and covariance at any time inside (or just outside) its
+//! span, and the common instants of two tracks.
+//!
+//! The scores of seed 000 compare two AOUs at "a single, common time instant"; reports of two
+//! tracks are not simultaneous, so each report time of one track inside the other's span is
+//! an instant at which the other track's state is interpolated between its bracketing reports
+//! `(t0, c0, R0)` and `(t1, c1, R1)`, `T = t1 - t0`, `tau = t - t0`, `w = tau / T`:
+//!
+//! - centre: `(1 - w) c0 + w c1` (planar), the point at fraction `w` of the geodesic from `c0` to
+//!   `c1` (geographic);
+//! - covariance: `(1 - w) R0 + w R1 + q tau (T - tau) / T I`. The linear blend of the two
+//!   covariances is what the error of the blended centre has when the two reports' errors are
+//!   fully correlated, as the outputs of one tracker a few seconds apart are (independent errors
+//!   would give the smaller `(1 - w)^2 R0 + w^2 R1`); the last term is the variance of a
+//!   Brownian bridge: the true path's deviation from the chord when the position wanders with
+//!   diffusion `q` (m^2/s per axis, the `process_noise`) around straight-line motion. For
+//!   linear motion with equal covariances the interpolated centre is exact. In geographic mode
+//!   both covariances are first carried into the east/north frame of the interpolated point
+//!   along the geodesic (see [`super::geodesy`]).
+//! - a gap `T > max_gap` is not interpolated: times inside it have no state.
+//! - within `horizon` seconds before the first or after the last report the state is
+//!   extrapolated at the velocity of the two end reports (when they are at most `max_gap`
+//!   apart, else held still) with covariance `R_end + q |t - t_end| I`.
+//!
+//! [`common_instants`] takes every report of either track at which the other has a state; a
+//! time at which both have a report is taken once.
+
+use super::geodesy;
+use super::reports::{Coords, Reports, State};
+
+/// Alignment options.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Alignment {
+    /// Largest gap between two reports of one track that is interpolated (s).
+    pub max_gap: f64,
+    /// How far before the first / after the last report a track is extrapolated (s).
+    pub horizon: f64,
+    /// Diffusion `q` of the position around straight-line motion (m^2/s per axis).
+    pub process_noise: f64,
+}
+
+impl Default for Alignment {
+    fn default() -> Self {
+        Self {
+            max_gap: Self::DEFAULT_MAX_GAP,
+            horizon: 0.0,
+            process_noise: Self::DEFAULT_PROCESS_NOISE,
+        }
+    }
+}
+
+impl Alignment {
+    /// Default `max_gap`: 5 minutes.
+    pub const DEFAULT_MAX_GAP: f64 = 300.0;
+    /// Default `q` (m^2/s): a ship of 10 m/s whose heading wanders by about 1 degree per minute
+    /// strays some 10 m from the chord over a minute's gap, `q tau (T - tau) / T = 0.5^2 * 15`.
+    pub const DEFAULT_PROCESS_NOISE: f64 = 2.0;
+
+    /// Checks the options.
+    pub fn validated(self) -> crate::Result<Self> {
+        for (name, v) in [
+            ("max_gap", self.max_gap),
+            ("horizon", self.horizon),
+            ("process_noise", self.process_noise),
+        ] {
+            if v.is_nan() || v < 0.0 {
+                return Err(crate::Error::InvalidOption {
+                    name,
+                    reason: format!("must be >= 0, got {v}"),
+                });
+            }
+        }
+        Ok(self)
+    }
+}
+
+fn add_iso(cov: [f64; 3], v: f64) -> [f64; 3] {
+    [cov[0] + v, cov[1], cov[2] + v]
+}
+
+fn blend(a: [f64; 3], b: [f64; 3], w: f64) -> [f64; 3] {
+    [
+        (1.0 - w) * a[0] + w * b[0],
+        (1.0 - w) * a[1] + w * b[1],
+        (1.0 - w) * a[2] + w * b[2],
+    ]
+}
+
+/// The state of track `track` at `time` (see the module docs), `None` in a gap or outside the
+/// span plus horizon.
+pub fn state_at(r: &Reports, track: usize, time: f64, o: &Alignment) -> Option<State> {
+    let range = r.range(track);
+    let ts = &r.time[range.clone()];
+    let st = &r.state[range];
+    let n = ts.len();
+    let j = ts.partition_point(|&x| x < time);
+    if j < n && ts[j] == time {
+        return Some(st[j]);
+    }
+    if j == 0 || j == n {
+        let (e, nb) = if j == 0 {
+            (0, 1)
+        } else {
+            (n - 1, n.wrapping_sub(2))
+        };
+        let dt = time - ts[e];
+        if dt.abs() > o.horizon {
+            return None;
+        }
+        let moving = n >= 2 && (ts[e] - ts[nb]).abs() <= o.max_gap;
+        return Some(extrapolate(
+            r.coords,
+            &st[e],
+            moving.then(|| (&st[nb], ts[e] - ts[nb])),
+            dt,
+            o,
+        ));
+    }
+    let (t0, t1) = (ts[j - 1], ts[j]);
+    let gap = t1 - t0;
+    if gap > o.max_gap {
+        return None;
+    }
+    let tau = time - t0;
+    let w = tau / gap;
+    let bridge = o.process_noise * tau * (gap - tau) / gap;
+    let (s0, s1) = (&st[j - 1], &st[j]);
+    Some(match r.coords {
+        Coords::Planar => State {
+            pos: [
+                (1.0 - w) * s0.pos[0] + w * s1.pos[0],
+                (1.0 - w) * s0.pos[1] + w * s1.pos[1],
+            ],
+            cov: add_iso(blend(s0.cov, s1.cov, w), bridge),
+        },
+        Coords::Geographic => {
+            let (pos, r0, r1) = geodesy::interpolate(s0.pos, s1.pos, w);
+            let c0 = geodesy::rotate_cov(s0.cov, r0);
+            let c1 = geodesy::rotate_cov(s1.cov, r1);
+            State {
+                pos,
+                cov: add_iso(blend(c0, c1, w), bridge),
+            }
+        }
+    })
+}
+
+/// Extrapolation from the end report `e` by `dt` seconds; `prev` is the neighbouring report and
+/// `t_e - t_prev` when the two are close enough to give a velocity.
+fn extrapolate(
+    coords: Coords,
+    e: &State,
+    prev: Option<(&State, f64)>,
+    dt: f64,
+    o: &Alignment,
+) -> State {
+    let grow = o.process_noise * dt.abs();
+    match coords {
+        Coords::Planar => {
+            let v = prev.map_or([0.0, 0.0], |(p, h)| {
+                [(e.pos[0] - p.pos[0]) / h, (e.pos[1] - p.pos[1]) / h]
+            });
+            State {
+                pos: [e.pos[0] + v[0] * dt, e.pos[1] + v[1] * dt],
+                cov: add_iso(e.cov, grow),
+            }
+        }
+        Coords::Geographic => {
+            let v = prev.map_or([0.0, 0.0], |(p, h)| {
+                // vector from e to the neighbour in e's frame, reversed
+                let (d, _) = geodesy::log_map(e.pos, p.pos);
+                [-d[0] / h, -d[1] / h]
+            });
+            let (pos, rot) = geodesy::offset(e.pos, [v[0] * dt, v[1] * dt]);
+            State {
+                pos,
+                cov: add_iso(geodesy::rotate_cov(e.cov, rot), grow),
+            }
+        }
+    }
+}
+
+/// One common instant of two tracks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Instant {
+    pub time: f64,
+    pub a: State,
+    pub b: State,
+}
+
+/// The common instants of tracks `a` and `b`, sorted by time (see the module docs).
+pub fn common_instants(r: &Reports, a: usize, b: usize, o: &Alignment) -> Vec<Instant> {
+    let mut out = Vec::new();
+    let (ra, rb) = (r.range(a), r.range(b));
+    let (ta, tb) = (&r.time[ra.clone()], &r.time[rb.clone()]);
+    let (sa0, sa1) = r.span(a);
+    let (sb0, sb1) = r.span(b);
+    // reports of a inside b's extended span
+    let lo = ta.partition_point(|&x| x < sb0 - o.horizon);
+    let hi = ta.partition_point(|&x| x <= sb1 + o.horizon);
+    for k in lo..hi {
+        if let Some(sb) = state_at(r, b, ta[k], o) {
+            out.push(Instant {
+                time: ta[k],
+                a: r.state[ra.start + k],
+                b: sb,
+            });
+        }
+    }
+    let lo = tb.partition_point(|&x| x < sa0 - o.horizon);
+    let hi = tb.partition_point(|&x| x <= sa1 + o.horizon);
+    let before = out.len();
+    for k in lo..hi {
+        let t = tb[k];
+        if ta.binary_search_by(|x| x.total_cmp(&t)).is_ok() {
+            continue; // a has a report at t: already an instant
+        }
+        if let Some(sa) = state_at(r, a, t, o) {
+            out.push(Instant {
+                time: t,
+                a: sa,
+                b: r.state[rb.start + k],
+            });
+        }
+    }
+    if before > 0 && out.len() > before {
+        out.sort_by(|x, y| x.time.total_cmp(&y.time));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line(n: usize, v: [f64; 2], dt: f64) -> Vec<[f64; 5]> {
+        (0..n)
+            .map(|k| {
+                let t = k as f64 * dt;
+                [10.0 + v[0] * t, -5.0 + v[1] * t, 20.0, 10.0, 0.7]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn interpolation_is_exact_for_linear_motion() {
+        let aou = line(5, [3.0, -2.0], 10.0);
+        let time: Vec<f64> = (0..5).map(|k| k as f64 * 10.0).collect();
+        let r = Reports::new(Coords::Planar, 1, &[0; 5], &[0; 5], &time, &aou).unwrap();
+        let o = Alignment {
+            process_noise: 0.0,
+            ..Alignment::default()
+        };
+        let s = state_at(&r, 0, 23.7, &o).unwrap();
+        assert!((s.pos[0] - (10.0 + 3.0 * 23.7)).abs() < 1e-12);
+        assert!((s.pos[1] - (-5.0 - 2.0 * 23.7)).abs() < 1e-12);
+        for k in 0..3 {
+            assert!((s.cov[k] - r.state[0].cov[k]).abs() < 1e-12);
+        }
+        assert!(state_at(&r, 0, 40.5, &o).is_none());
+        let o = Alignment {
+            horizon: 5.0,
+            process_noise: 1.0,
+            ..Alignment::default()
+        };
+        let s = state_at(&r, 0, 43.0, &o).unwrap();
+        assert!((s.pos[0] - (10.0 + 3.0 * 43.0)).abs() < 1e-9);
+        assert!((s.cov[0] - r.state[4].cov[0] - 3.0).abs() < 1e-12);
+        let s = state_at(&r, 0, 15.0, &o).unwrap();
+        assert!((s.cov[2] - r.state[0].cov[2] - 2.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn gaps_are_not_interpolated() {
+        let aou = line(3, [1.0, 0.0], 1.0);
+        let r = Reports::new(
+            Coords::Planar,
+            1,
+            &[0; 3],
+            &[0; 3],
+            &[0.0, 1.0, 500.0],
+            &aou,
+        )
+        .unwrap();
+        let o = Alignment::default();
+        assert!(state_at(&r, 0, 0.5, &o).is_some());
+        assert!(state_at(&r, 0, 200.0, &o).is_none());
+    }
+
+    #[test]
+    fn common_instants_take_both_tracks_once() {
+        let aou = line(3, [1.0, 0.0], 1.0);
+        let mut all = aou.clone();
+        all.extend(aou);
+        let time = [0.0, 10.0, 20.0, 5.0, 10.0, 30.0];
+        let r = Reports::new(
+            Coords::Planar,
+            2,
+            &[0, 0, 0, 1, 1, 1],
+            &[0, 0, 0, 1, 1, 1],
+            &time,
+            &all,
+        )
+        .unwrap();
+        let got: Vec<f64> = common_instants(&r, 0, 1, &Alignment::default())
+            .iter()
+            .map(|i| i.time)
+            .collect();
+        assert_eq!(got, vec![5.0, 10.0, 20.0]);
+    }
+}
