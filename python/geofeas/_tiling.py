@@ -65,9 +65,15 @@ class Grid:
 
 
 def explode(
-    lo: NDArray[np.float64], hi: NDArray[np.float64], grid: Grid
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+    grid: Grid,
+    *,
+    max_copies: int | None = None,
 ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
     """Every (box, cell) with the closed box meeting the cell.
+
+    ``max_copies`` refuses (before allocating) grids so fine that the entries would exceed it.
 
     Returns
     -------
@@ -80,6 +86,13 @@ def explode(
     b = grid.cell(hi)
     n = b - a + 1
     count = np.prod(n, axis=1)
+    total = float(np.sum(count.astype(np.float64)))
+    if max_copies is not None and total > max_copies:
+        raise GeofeasError(
+            f"tiles too small: the {len(lo)} tracks would be copied into {int(total)} tiles "
+            f"(more than {max_copies}); use larger tiles (the mean box is "
+            f"{np.round(np.mean(hi - lo, axis=0), 1).tolist()}, the tile {list(grid.size)})"
+        )
     rows = np.repeat(np.arange(len(lo), dtype=np.int64), count)
     first = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64)
     j = np.arange(int(count.sum()), dtype=np.int64) - np.repeat(first, count)

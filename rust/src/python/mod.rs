@@ -5,6 +5,7 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 
 mod association;
+mod fusion;
 mod mht;
 mod scores;
 
@@ -46,5 +47,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     scores::register(m)?;
     mht::register(m)?;
     association::register(m)?;
+    fusion::register(m)?;
     Ok(())
 }
