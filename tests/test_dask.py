@@ -199,7 +199,7 @@ class KillOnce(WorkerPlugin):
             os._exit(1)
 
 
-@pytest.mark.parametrize("stage", ["_score_tiles", "_summarise", "shuffle-transfer"])
+@pytest.mark.parametrize("stage", ["_partition_partials", "shuffle-transfer", "_score_tiles"])
 def test_a_worker_killed_mid_run_changes_nothing(planar, tmp_path, stage):
     want = geofeas.associate(planar)
     marker = tmp_path / "kill"

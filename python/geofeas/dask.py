@@ -116,92 +116,138 @@ def _global_rows(exc: GeofeasError, rows: NDArray[np.int64]) -> GeofeasError:
     return GeofeasError(re.sub(r"(\brow )(\d+)", sub, str(exc)))
 
 
-def _read(part: pd.DataFrame, coords: str, columns: tuple[str, ...]) -> Reports:
-    rows = (
-        part["_row"].to_numpy(np.int64)
-        if "_row" in part.columns
-        else np.arange(len(part), dtype=np.int64)
-    )
-    try:
-        return read_reports(part.loc[:, list(columns)].reset_index(drop=True), coords=coords)
-    except GeofeasError as exc:
-        raise _global_rows(exc, rows) from None
+def _partials(rep: Reports) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Per-track aggregates of some of a track's reports, and its first and last two reports.
 
-
-def _boxes(
-    rep: Reports, *, max_gap: float, horizon: float, process_noise: float, halo: float
-) -> dict[str, NDArray[Any]]:
-    """Per track (in ``rep.track_ids`` order): span, first report and the box (module docs)."""
-    n, ntr = len(rep), rep.n_tracks
+    Both combine over any split of the reports (:func:`_combine`), so the tracks' boxes need no
+    shuffle of the reports.
+    """
+    n = len(rep)
     geo = rep.coords == "geographic"
-    q, h, big_r = float(process_noise), float(horizon), _MIN_CURVATURE_RADIUS
+    p = _ecef(rep.aou[:, 0], rep.aou[:, 1]) if geo else rep.aou[:, :2]
+    d = p.shape[1]
     order = np.lexsort((rep.time, rep.track))
     c = rep.track[order].astype(np.int64)
-    t = rep.time[order]
-    aou = rep.aou[order]
-    p = _ecef(aou[:, 0], aou[:, 1]) if geo else aou[:, :2]
-    r = np.maximum(aou[:, 2], aou[:, 3])
     first = np.flatnonzero(np.r_[True, c[1:] != c[:-1]]) if n else np.zeros(0, np.int64)
     last = np.r_[first[1:] - 1, n - 1] if n else np.zeros(0, np.int64)
+    ps, ts = p[order], rep.time[order]
+    r = np.maximum(rep.aou[order, 2], rep.aou[order, 3])
+    agg: dict[str, Any] = {
+        "track_id": rep.track_ids[c[first]] if n else rep.track_ids[:0],
+        "source": rep.sources[rep.source[order][first]] if n else rep.sources[:0],
+        "reports": (last - first + 1).astype(np.int64),
+        "tmin": ts[first],
+        "tmax": ts[last],
+        "rmax": np.maximum.reduceat(r, first) if n else np.zeros(0),
+    }
+    for k in range(d):
+        agg[f"pmin{k}"] = np.minimum.reduceat(ps[:, k], first) if n else np.zeros(0)
+        agg[f"pmax{k}"] = np.maximum.reduceat(ps[:, k], first) if n else np.zeros(0)
+    # first two and last two reports of each track (by time)
+    pos = np.arange(n) - np.repeat(first, last - first + 1) if n else np.zeros(0, np.int64)
+    back = np.repeat(last, last - first + 1) - np.arange(n) if n else np.zeros(0, np.int64)
+    end = np.flatnonzero((pos < 2) | (back < 2))
+    ends: dict[str, Any] = {"track_id": rep.track_ids[c[end]], "t": ts[end]}
+    for k in range(d):
+        ends[f"p{k}"] = ps[end, k]
+    names = PLANAR if rep.coords == "planar" else GEOGRAPHIC
+    for k, name in enumerate(names):
+        ends[name] = rep.aou[order[end], k]
+    return pd.DataFrame(agg), pd.DataFrame(ends)
 
-    # consecutive reports of one track (times are distinct within a track: read_reports)
-    same = c[1:] == c[:-1]
-    dt = t[1:] - t[:-1]
-    chord = np.linalg.norm(p[1:] - p[:-1], axis=1)
-    arc = chord * (1.0 + chord * chord / big_r**2) if geo else chord
-    connected = same & (dt <= max_gap)
-    seg = np.sqrt(q * np.maximum(dt, 0.0))
+
+def _combine(
+    aggs: list[pd.DataFrame],
+    ends: list[pd.DataFrame],
+    coords: str,
+    *,
+    max_gap: float,
+    horizon: float,
+    process_noise: float,
+    halo: float,
+) -> pd.DataFrame:
+    """The track table, sorted by track id as the engine numbers tracks (see module docs)."""
+    geo = coords == "geographic"
+    d = 3 if geo else 2
+    q, h, big_r = float(process_noise), float(horizon), _MIN_CURVATURE_RADIUS
+    agg = pd.concat(aggs, ignore_index=True)
+    how = {"reports": "sum", "tmin": "min", "tmax": "max", "rmax": "max", "source": "first"}
+    for k in range(d):
+        how[f"pmin{k}"] = "min"
+        how[f"pmax{k}"] = "max"
+    tr = agg.groupby("track_id", sort=False).agg(how)
+    try:
+        ids, inverse = np.unique(tr.index.to_numpy(), return_inverse=True)
+    except TypeError:
+        raise GeofeasError(
+            "column track_id: ids must be all strings or all numbers (partitions differ)"
+        ) from None
+    tr = tr.iloc[np.argsort(inverse.reshape(-1), kind="stable")]
+    ntr = len(tr)
+    pmin = tr[[f"pmin{k}" for k in range(d)]].to_numpy(np.float64).reshape(ntr, d)
+    pmax = tr[[f"pmax{k}" for k in range(d)]].to_numpy(np.float64).reshape(ntr, d)
+    tmin, tmax = tr["tmin"].to_numpy(np.float64), tr["tmax"].to_numpy(np.float64)
+
+    # interpolation: every interpolated gap T satisfies T <= max_gap and T <= the track's span;
+    # geographic: its chord is at most the diagonal of the track's box
+    span = np.minimum(tmax - tmin, max_gap)
+    seg = np.sqrt(q * np.maximum(span, 0.0))
     if geo:
+        diag = np.linalg.norm(pmax - pmin, axis=1)
+        arc = diag * (1.0 + diag * diag / big_r**2)
         seg = seg + arc * arc / (8.0 * big_r)
-    seg_extra = np.zeros(ntr)
-    np.maximum.at(seg_extra, c[1:][connected], seg[connected])
 
-    # extrapolation at both ends when horizon > 0, at the speed of the end pair if connected
+    # extrapolation at both ends, at the speed of the end pair when it is connected
+    e = pd.concat(ends, ignore_index=True).drop_duplicates(["track_id", "t"])
+    e = e.assign(_k=np.searchsorted(ids, e["track_id"].to_numpy())).sort_values(
+        ["_k", "t"], kind="stable"
+    )
+    k = e["_k"].to_numpy()
+    first_rows = np.flatnonzero(np.r_[True, k[1:] != k[:-1]]) if len(e) else np.zeros(0, int)
+    last_rows = np.r_[first_rows[1:] - 1, len(e) - 1] if len(e) else np.zeros(0, int)
     end_extra = np.zeros(ntr)
     if h > 0:
         end_extra[:] = 2.0 * math.sqrt(q * h)
-        if n > 1:
-            multi = last > first
-            for k in (np.clip(first, 0, n - 2), np.clip(last - 1, 0, n - 2)):
-                moving = multi & (dt[k] <= max_gap)
-                speed = np.where(moving, arc[k] / np.where(moving, dt[k], 1.0), 0.0)
-                length = speed * h
-                grow = length + 2.0 * math.sqrt(q * h)
-                if geo:
-                    grow = grow + length * length / (8.0 * big_r)
-                end_extra = np.maximum(end_extra, grow)
+        et = e["t"].to_numpy(np.float64)
+        ep = e[[f"p{j}" for j in range(d)]].to_numpy(np.float64)
+        multi = last_rows > first_rows
+        for i0, i1 in ((first_rows, first_rows + 1), (last_rows - 1, last_rows)):
+            i0c, i1c = np.where(multi, i0, first_rows), np.where(multi, i1, first_rows)
+            dt = et[i1c] - et[i0c]
+            chord = np.linalg.norm(ep[i1c] - ep[i0c], axis=1)
+            arc_e = chord * (1.0 + chord * chord / big_r**2) if geo else chord
+            moving = multi & (dt <= max_gap) & (dt > 0)
+            speed = np.where(moving, arc_e / np.where(moving, dt, 1.0), 0.0)
+            length = speed * h
+            grow = length + 2.0 * math.sqrt(q * h)
+            if geo:
+                grow = grow + length * length / (8.0 * big_r)
+            end_extra = np.maximum(end_extra, grow)
 
-    if n:
-        rmax = np.maximum.reduceat(r, first)
-        pmin = np.minimum.reduceat(p, first, axis=0)
-        pmax = np.maximum.reduceat(p, first, axis=0)
-    else:
-        rmax, pmin, pmax = np.zeros(0), np.zeros((0, p.shape[1])), np.zeros((0, p.shape[1]))
     # the engine pads its boxes by 1e-9 |v| against rounding; 1e4 times that and 1 mm here
     scale = np.maximum(np.abs(pmin), np.abs(pmax)).max(axis=1, initial=1.0)
-    grow = (rmax + seg_extra + end_extra) * (1.0 + 1e-9) + 1e-5 * scale + 1e-3
+    rmax = tr["rmax"].to_numpy(np.float64)
+    grow = (rmax + seg + end_extra) * (1.0 + 1e-9) + 1e-5 * scale + 1e-3
     grow = np.maximum(grow, float(halo))
-    start, end = t[first], t[last]
-    tpad = 1e-9 * np.maximum(np.abs(start), np.abs(end)).clip(min=1.0) + 1e-6
-    out: dict[str, NDArray[Any]] = {
-        "track_id": rep.track_ids,
-        "source": rep.sources[rep.source[order][first]],
-        "start": start,
-        "end": end,
-        "reports": (last - first + 1).astype(np.int64),
+    tpad = 1e-9 * np.maximum(np.abs(tmin), np.abs(tmax)).clip(min=1.0) + 1e-6
+    out: dict[str, Any] = {
+        "track_id": ids,
+        "source": tr["source"].to_numpy(),
+        "start": tmin,
+        "end": tmax,
+        "reports": tr["reports"].to_numpy(np.int64),
         "halo": grow,
     }
-    for k in range(p.shape[1]):
-        out[f"lo{k}"] = pmin[:, k] - grow
-        out[f"hi{k}"] = pmax[:, k] + grow
-    d = p.shape[1]
-    out[f"lo{d}"] = start - h - tpad
-    out[f"hi{d}"] = end + h + tpad
-    # the first report, kept for the result's track-level Reports
-    out["first_time"] = start
-    for k, name in enumerate(PLANAR if rep.coords == "planar" else GEOGRAPHIC):
-        out[f"first_{name}"] = aou[first, k]
-    return out
+    for j in range(d):
+        out[f"lo{j}"] = pmin[:, j] - grow
+        out[f"hi{j}"] = pmax[:, j] + grow
+    out[f"lo{d}"] = tmin - h - tpad
+    out[f"hi{d}"] = tmax + h + tpad
+    names = PLANAR if coords == "planar" else GEOGRAPHIC
+    out["first_time"] = e["t"].to_numpy(np.float64)[first_rows]
+    for name in names:
+        out[f"first_{name}"] = e[name].to_numpy(np.float64)[first_rows]
+    return pd.DataFrame(out)
 
 
 def track_boxes(
@@ -219,7 +265,6 @@ def track_boxes(
     Parameters
     ----------
     reports : anything :func:`geofeas.read_reports` accepts
-        Whole tracks. A column ``_row`` gives the row numbers named in errors.
     coords, max_gap, horizon, process_noise
         As for :func:`geofeas.associate`.
     halo : float
@@ -228,19 +273,22 @@ def track_boxes(
     Returns
     -------
     pandas.DataFrame
-        ``track_id, source, start, end, reports, halo`` and the box ``lo0 .. lo{d}``,
-        ``hi0 .. hi{d}`` over the ``d`` spatial dimensions (``x, y``; ECEF ``X, Y, Z`` for
-        geographic reports) and time (the last); every chunk box of the engine's candidate
-        index for the track lies inside (see the module docs). Then the track's first report
-        (``first_time``, ``first_x`` ...).
+        Sorted by ``track_id``: ``track_id, source, start, end, reports, halo`` and the box
+        ``lo0 .. lo{d}``, ``hi0 .. hi{d}`` over the ``d`` spatial dimensions (``x, y``; ECEF
+        ``X, Y, Z`` for geographic reports) and time (the last); every chunk box of the
+        engine's candidate index for the track lies inside (see the module docs). Then the
+        track's first report (``first_time``, ``first_x`` ...).
     """
-    if isinstance(reports, pd.DataFrame):
-        coords, columns = _columns(reports.columns, coords)
-        rep = _read(reports, coords, columns)
-    else:
-        rep = read_reports(reports, coords=coords)
-    return pd.DataFrame(
-        _boxes(rep, max_gap=max_gap, horizon=horizon, process_noise=process_noise, halo=halo)
+    rep = read_reports(reports, coords=coords)
+    agg, ends = _partials(rep)
+    return _combine(
+        [agg],
+        [ends],
+        rep.coords,
+        max_gap=max_gap,
+        horizon=horizon,
+        process_noise=process_noise,
+        halo=halo,
     )
 
 
@@ -265,30 +313,74 @@ def _as_dask(reports: Any, npartitions: int | None) -> dd.DataFrame:
     return out if npartitions is None else out.repartition(npartitions=npartitions)
 
 
-def _add_rows(
-    part: pd.DataFrame, offsets: NDArray[np.int64], partition_info: Any = None
+_ROW_BITS = 40  # a row is named (partition << 40) + row-in-partition until an error needs it
+
+
+def _reports_of(part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, ...]) -> Reports:
+    """``read_reports`` of one partition; errors name ``(pidx << 40) + row``."""
+    rows = (np.int64(pidx) << _ROW_BITS) + np.arange(len(part), dtype=np.int64)
+    frame = part.loc[:, list(columns)].reset_index(drop=True)
+    for c in ("track_id", "source"):  # categorical columns (from Parquet) as their values
+        if isinstance(frame[c].dtype, pd.CategoricalDtype):
+            frame[c] = frame[c].astype(frame[c].cat.categories.dtype)
+    try:
+        return read_reports(frame, coords=coords)
+    except GeofeasError as exc:
+        raise _global_rows(exc, rows) from None
+
+
+def _partition_partials(part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, ...]):
+    return _partials(_reports_of(part, pidx, coords, columns))
+
+
+def _to_tiles(
+    part: pd.DataFrame,
+    coords: str,
+    columns: tuple[str, ...],
+    track_ids: NDArray[Any],
+    sources: NDArray[Any],
+    first_copy: NDArray[np.int64],
+    copies: NDArray[np.int64],
+    keys: NDArray[np.int64],
+    partition_info: Any = None,
 ) -> pd.DataFrame:
-    start = int(offsets[partition_info["number"]]) if partition_info else 0
-    return part.assign(_row=np.arange(start, start + len(part), dtype=np.int64))
+    """The reports of a partition, parsed, numbered and copied into their tracks' tiles.
+
+    Ids become the track's index among all sorted track ids (``track_id``) and the source's
+    among all sorted sources (``source``), times become seconds: every column is numeric, and
+    the engine, which numbers a tile's tracks by their sorted ids, numbers them in the same
+    order as the whole picture.
+    """
+    pidx = int(partition_info["number"]) if partition_info else 0
+    rep = _reports_of(part, pidx, coords, columns)
+    gid = np.searchsorted(track_ids, rep.track_ids)[rep.track].astype(np.int64)
+    src = np.searchsorted(sources, rep.sources)[rep.source].astype(np.int64)
+    count = copies[gid]
+    row = np.repeat(np.arange(len(rep), dtype=np.int64), count)
+    start = np.repeat(first_copy[gid] - np.cumsum(count) + count, count)
+    tile = keys[start + np.arange(row.size, dtype=np.int64)]
+    names = PLANAR if coords == "planar" else GEOGRAPHIC
+    out: dict[str, Any] = {
+        "track_id": gid[row],
+        "source": src[row],
+        "time": rep.time[row],
+    }
+    for k, name in enumerate(names):
+        out[name] = rep.aou[row, k]
+    out["_row"] = (np.int64(pidx) << _ROW_BITS) + row
+    out["_tile"] = tile
+    return pd.DataFrame(out)
 
 
-def _summarise(part: pd.DataFrame, coords: str, columns: tuple[str, ...], kw: dict[str, float]):
-    return pd.DataFrame(_boxes(_read(part, coords, columns), **kw))
-
-
-def _one_track(meta: pd.DataFrame, columns: tuple[str, ...]) -> pd.DataFrame:
-    """A one-report table with the dtypes of ``meta``: the model of Dask's ``meta`` frames."""
-    row: dict[str, Any] = {c: [0.0] for c in columns}
-    row["rx"] = row["ry"] = [1.0]
-    for c in ("track_id", "source"):
-        numeric = pd.api.types.is_numeric_dtype(meta[c])
-        row[c] = pd.Series([0 if numeric else "0"]).astype(meta[c].dtype)
-    row["time"] = (
-        pd.Series([0]).astype(meta["time"].dtype)
-        if pd.api.types.is_numeric_dtype(meta["time"])
-        else ["1970-01-01T00:00:00Z"]
-    )
-    return pd.DataFrame(row)
+def _tiles_meta(coords: str) -> pd.DataFrame:
+    names = PLANAR if coords == "planar" else GEOGRAPHIC
+    cols: dict[str, Any] = {"track_id": np.zeros(0, np.int64), "source": np.zeros(0, np.int64)}
+    cols["time"] = np.zeros(0)
+    for name in names:
+        cols[name] = np.zeros(0)
+    cols["_row"] = np.zeros(0, np.int64)
+    cols["_tile"] = np.zeros(0, np.int64)
+    return pd.DataFrame(cols)
 
 
 def _pairs_frame(n: int = 0) -> dict[str, Any]:
@@ -303,68 +395,68 @@ def _pairs_frame(n: int = 0) -> dict[str, Any]:
 def _score_tiles(
     part: pd.DataFrame,
     grid: Grid,
-    dims: int,
     coords: str,
     columns: tuple[str, ...],
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+    track_ids: NDArray[Any],
+    sources: NDArray[Any],
     index: dict[str, Any],
     scoring: dict[str, Any],
 ) -> pd.DataFrame:
     """The candidate pairs each tile of a partition owns, scored by the engine.
 
-    The engine numbers a tile's tracks by their sorted ids, as it numbers all tracks in the
-    single-machine run, so every pair keeps its orientation ``a < b`` and the order of its
-    floating-point operations; pairs are returned under their global dense ids ``_gid``.
+    Tracks arrive under their global indices (``track_id``), so the engine numbers a tile's
+    tracks in the order of the whole picture: every pair keeps its orientation ``a < b`` and
+    the order of its floating-point operations.
     """
-    lo_cols = [f"lo{k}" for k in range(dims)]
-    hi_cols = [f"hi{k}" for k in range(dims)]
     geographic = coords == "geographic"
     out = [pd.DataFrame(_pairs_frame())]
     for tile, rows in part.groupby("_tile", sort=True):
-        rows = rows.reset_index(drop=True)
-        rep = _read(rows, coords, columns)  # parsed and validated as the engine does
-        gid = np.empty(rep.n_tracks, dtype=np.uint32)
-        gid[rep.track] = rows["_gid"].to_numpy(np.uint32)
+        rows = rows.sort_values("_row", kind="stable")  # the caller's order
+        try:  # whole tracks here: the cross-report checks (one source, distinct times) bite
+            rep = read_reports(rows.loc[:, list(columns)].reset_index(drop=True), coords=coords)
+        except GeofeasError as exc:  # the caller's rows, ids and sources
+            text = str(_global_rows(exc, rows["_row"].to_numpy(np.int64)))
+            for word, names in (("track", track_ids), ("source", sources)):
+                text = re.sub(
+                    rf"\b{word} (?:np\.int64\()?(\d+)\)?",
+                    lambda m, w=word, v=names: f"{w} {v[int(m.group(1))]!r}",
+                    text,
+                )
+            raise GeofeasError(text) from None
+        gid = np.asarray(rep.track_ids, dtype=np.int64)
         track, source, time, aou, n_local = rep._core_args()
         a, b = _core.association_candidates(
             track, source, time, aou, n_local, geographic=geographic, **index
         )
         if not len(a):
             continue
-        a, b = gid[a], gid[b]
-        boxes = rows.drop_duplicates("_gid").set_index("_gid")
-        ba, bb = boxes.loc[a], boxes.loc[b]
-        keys, meets = owner(
-            ba[lo_cols].to_numpy(),
-            ba[hi_cols].to_numpy(),
-            bb[lo_cols].to_numpy(),
-            bb[hi_cols].to_numpy(),
-            grid,
-        )
+        ga, gb = gid[a], gid[b]
+        keys, meets = owner(lo[ga], hi[ga], lo[gb], hi[gb], grid)
         if not meets.all():
             k = int(np.flatnonzero(~meets)[0])
             raise GeofeasError(
-                f"internal: tracks {ba['track_id'].iloc[k]!r}, {bb['track_id'].iloc[k]!r} are a "
-                "candidate pair but their boxes do not meet: the halo bound is broken"
+                f"internal: tracks {ga[k]} and {gb[k]} are a candidate pair but their boxes do "
+                "not meet: the halo bound is broken"
             )
         mine = keys == tile
-        a, b = a[mine], b[mine]
-        local = np.searchsorted(gid, np.stack([a, b])).astype(np.uint32)  # gid is increasing
         score, instants = _core.association_score_pairs(
             track,
             source,
             time,
             aou,
             n_local,
-            np.ascontiguousarray(local[0]),
-            np.ascontiguousarray(local[1]),
+            np.ascontiguousarray(a[mine]),
+            np.ascontiguousarray(b[mine]),
             geographic=geographic,
             **scoring,
         )
         out.append(
             pd.DataFrame(
                 {
-                    "a": a,
-                    "b": b,
+                    "a": ga[mine].astype(np.uint32),
+                    "b": gb[mine].astype(np.uint32),
                     "score": np.asarray(score, np.float64),
                     "instants": np.asarray(instants, np.int64),
                 }
@@ -508,27 +600,60 @@ correlation_time, window, **score_options
     )
 
     ddf = ddf[list(columns)]
-    lengths = ddf.map_partitions(len).compute()
-    offsets = np.concatenate([[0], np.cumsum(np.asarray(lengths, dtype=np.int64))])
-    ddf = ddf.map_partitions(_add_rows, offsets, meta=ddf._meta.assign(_row=np.int64(0)))
-    nparts = ddf.npartitions
-    ddf = ddf.shuffle("track_id", npartitions=nparts).persist()
+    try:
+        return _run(ddf, coords, columns, tile, halo, index, scoring, options)
+    except GeofeasError as exc:
+        raise _name_rows(exc, ddf) from None
 
-    kw = dict(
-        max_gap=float(max_gap),
-        horizon=float(horizon),
-        process_noise=float(process_noise),
-        halo=float(halo),
+
+def _name_rows(exc: GeofeasError, ddf: dd.DataFrame) -> GeofeasError:
+    """Replace the ``(partition << 40) + row`` row numbers of an error by rows of the table."""
+    text = str(exc)
+    if not re.search(rf"\brow \d{{{len(str(1 << _ROW_BITS))},}}", text):
+        return exc
+    offsets = np.concatenate([[0], np.cumsum(np.asarray(ddf.map_partitions(len).compute()))])
+
+    def sub(m: re.Match[str]) -> str:
+        v = int(m.group(2))
+        p, r = v >> _ROW_BITS, v & ((1 << _ROW_BITS) - 1)
+        return f"{m.group(1)}{int(offsets[p]) + r}" if p < len(offsets) - 1 else m.group(0)
+
+    return GeofeasError(re.sub(r"(\brow )(\d+)", sub, text))
+
+
+def _run(
+    ddf: dd.DataFrame,
+    coords: str,
+    columns: tuple[str, ...],
+    tile: tuple[float, float] | None,
+    halo: float,
+    index: dict[str, Any],
+    scoring: dict[str, Any],
+    options: dict[str, Any],
+) -> DistributedAssociation:
+    import dask
+
+    nparts = ddf.npartitions
+    # 1. per-track boxes from per-partition partial aggregates (no shuffle of the reports)
+    parts = ddf.to_delayed()
+    partial = dask.delayed(_partition_partials, pure=True)
+    results = dask.compute(*[partial(p, i, coords, columns) for i, p in enumerate(parts)])
+    tracks = _combine(
+        [r[0] for r in results],
+        [r[1] for r in results],
+        coords,
+        max_gap=index["max_gap"],
+        horizon=index["horizon"],
+        process_noise=index["process_noise"],
+        halo=halo,
     )
-    meta = _summarise(_one_track(ddf._meta, columns), coords, columns, kw).iloc[:0]
-    tracks = ddf.map_partitions(_summarise, coords, columns, kw, meta=meta).compute()
-    track_ids, inverse = np.unique(tracks["track_id"].to_numpy(), return_inverse=True)
-    if len(track_ids) != len(tracks):  # pragma: no cover - the shuffle keeps tracks whole
-        raise GeofeasError("internal: a track was split across partitions")
-    tracks = tracks.iloc[np.argsort(inverse, kind="stable")].reset_index(drop=True)
+    track_ids = tracks["track_id"].to_numpy()
+    sources = np.unique(tracks["source"].to_numpy())
     dims = sum(1 for c in tracks.columns if c.startswith("lo"))
-    lo = tracks[[f"lo{k}" for k in range(dims)]].to_numpy()
-    hi = tracks[[f"hi{k}" for k in range(dims)]].to_numpy()
+    lo = np.ascontiguousarray(tracks[[f"lo{k}" for k in range(dims)]].to_numpy(np.float64))
+    hi = np.ascontiguousarray(tracks[[f"hi{k}" for k in range(dims)]].to_numpy(np.float64))
+
+    # 2. the grid, and the tiles of every track
     if tile is None:
         size = _tile_size(lo, hi, 4 * nparts) if len(tracks) else np.ones(dims)
     else:
@@ -545,27 +670,33 @@ correlation_time, window, **score_options
             f"{copied / max(n_reports.sum(), 1):.0f} copies of every report on average; use "
             "larger tiles (or the default)"
         )
-    rows, keys = explode(lo, hi, grid)
-    copies = pd.DataFrame(
-        {
-            "track_id": tracks["track_id"].to_numpy()[rows],
-            "_tile": keys,
-            "_gid": rows.astype(np.uint32),
-        }
-    )
-    for k in range(dims):
-        copies[f"lo{k}"] = lo[rows, k]
-        copies[f"hi{k}"] = hi[rows, k]
+    rows, keys = explode(lo, hi, grid)  # rows are sorted: the tiles of track 0, then 1, ...
+    copies = np.bincount(rows, minlength=len(tracks)).astype(np.int64)
+    first_copy = np.cumsum(copies) - copies
     n_tiles = int(np.unique(keys).size)
 
-    rep = ddf.merge(copies, on="track_id", how="inner")
-    rep = rep.shuffle("_tile", npartitions=max(1, min(n_tiles, 4 * nparts)))
-    scored = rep.map_partitions(
-        _score_tiles,
-        grid,
-        dims,
+    # 3. reports, as numbers, copied into tiles; one shuffle; each tile scores the pairs it owns
+    tiled = ddf.map_partitions(
+        _to_tiles,
         coords,
         columns,
+        track_ids,
+        sources,
+        first_copy,
+        copies,
+        keys,
+        meta=_tiles_meta(coords),
+    )
+    tiled = tiled.shuffle("_tile", npartitions=max(1, min(n_tiles, 4 * nparts)))
+    scored = tiled.map_partitions(
+        _score_tiles,
+        grid,
+        coords,
+        columns,
+        lo,
+        hi,
+        track_ids,
+        sources,
         index,
         scoring,
         meta=pd.DataFrame(_pairs_frame()),
