@@ -8,20 +8,23 @@ is active (a ``distributed.Client`` if one exists).
 
 How it is cut up (the argument in full is in ``docs/fusion-stacks.md``):
 
-1. the reports are shuffled by ``track_id`` so that each partition holds whole tracks; there
-   they are validated by :func:`geofeas.read_reports` (errors name the caller's row), and every
-   track gets a closed space-time box (:func:`track_boxes`): the extent of its report centres
-   (planar ``x, y``, or WGS84 ECEF metres for ``lat, lon``) and times, grown by a **halo** that
-   bounds every box the engine's candidate index can give any chunk of the track — the largest
-   2-sigma semi-axis, the Brownian-bridge term ``sqrt(q T)`` of each interpolated gap ``T``,
-   the extrapolation ``|v| h + 2 sqrt(q h)`` at the ends when ``horizon = h > 0``, the geodesic
-   sagitta in geographic mode — and by ``h`` in time. Two tracks can only be a candidate pair
-   when their boxes intersect;
-2. the picture is a grid of space-time tiles; every track is copied whole into each tile its box
-   meets; each tile finds its candidate pairs with the engine's space-time index;
+1. every partition is read by :func:`geofeas.read_reports` (errors name the caller's row) and
+   reduced to per-track partial aggregates — count, time span, extent of the report centres
+   (planar ``x, y``, or WGS84 ECEF metres for ``lat, lon``), largest 2-sigma semi-axis, first
+   and last two reports — which combine over any split of a track's reports, so the reports are
+   not shuffled for this. Each track gets a closed space-time box (:func:`track_boxes`): that
+   extent grown by a **halo** bounding every box the engine's candidate index can give any
+   chunk of the track — the largest semi-axis, the Brownian-bridge term ``sqrt(q T)`` of an
+   interpolated gap ``T <= min(max_gap, span)``, the extrapolation ``|v| h + 2 sqrt(q h)`` at
+   the ends when ``horizon = h > 0``, the geodesic sagitta in geographic mode — and by ``h`` in
+   time. Two tracks can only be a candidate pair when their boxes intersect;
+2. the picture is a grid of space-time tiles; every report is copied into each tile its track's
+   box meets (ids and sources replaced by their indices among the sorted ids, times by seconds:
+   numbers only), in one shuffle; each tile then holds whole tracks and finds its candidate
+   pairs with the engine's space-time index;
 3. a tile keeps, and scores, only the pairs it *owns*: those whose box intersection has its
    lower corner in the tile (:mod:`geofeas._tiling`). Every candidate pair is therefore scored
-   exactly once, with the very reports and options of the single-machine run;
+   exactly once, with the very reports, options and track order of the single-machine run;
 4. the triage classes and the grouping into objects are global (one ship's tracks may cross
    tiles), so they run once, on the gathered pairs, with the engine's own grouping.
 
