@@ -40,7 +40,9 @@ fn association_group<'py>(
     );
     let (sa, sb, ss) = (slice("a", &a)?, slice("b", &b)?, slice("score", &score)?);
     if t0.len() != src.len() || t1.len() != src.len() {
-        return Err(Error::Invalid("source, start and end must have the same length".into()).into());
+        return Err(
+            Error::Invalid("source, start and end must have the same length".into()).into(),
+        );
     }
     if sb.len() != sa.len() || ss.len() != sa.len() {
         return Err(Error::Invalid("a, b and score must have the same length".into()).into());
