@@ -12,6 +12,7 @@ __all__ = [
     "associate",
     "association_candidates",
     "association_default_upper",
+    "association_group",
     "association_score_pairs",
     "combine_instants",
     "from_gaussian",
@@ -286,3 +287,14 @@ def assign_one_to_one(
     min_score: float = 0.0,
 ) -> NDArray[np.uint64]: ...
 def association_default_upper() -> float: ...
+def association_group(
+    source: NDArray[np.uint32],
+    start: NDArray[np.float64],
+    end: NDArray[np.float64],
+    a: NDArray[np.uint32],
+    b: NDArray[np.uint32],
+    score: NDArray[np.float64],
+    *,
+    lower: float,
+    upper: float,
+) -> tuple[NDArray[np.uint8], NDArray[np.uint32]]: ...

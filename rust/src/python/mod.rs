@@ -5,6 +5,7 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 
 mod association;
+mod fusion;
 mod mht;
 mod pf;
 mod scores;
@@ -48,5 +49,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     mht::register(m)?;
     pf::register(m)?;
     association::register(m)?;
+    fusion::register(m)?;
     Ok(())
 }

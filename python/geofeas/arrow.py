@@ -1,0 +1,93 @@
+"""Reports and association results as Arrow tables and Parquet files, column by column.
+
+Arrow in: :func:`read_reports` takes a ``pyarrow.Table`` / ``RecordBatch`` (or a Parquet path
+read with ``pyarrow.parquet``) and hands its columns to :func:`geofeas.read_reports` as one
+pandas frame: numeric columns convert without copies, dictionary-encoded columns (as Parquet
+writers produce for repeated strings) are decoded by Arrow, timestamp columns stay timestamps.
+Arrow out: :func:`pairs_table` / :func:`objects_table` and :func:`write_parquet`. No step loops
+over rows in Python.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+from ._core import GeofeasError
+from .association import Association, Reports
+from .association import associate as _associate
+from .association import read_reports as _read
+
+__all__ = [
+    "associate",
+    "objects_table",
+    "pairs_table",
+    "read_reports",
+    "to_pandas",
+    "write_parquet",
+]
+
+
+def _pyarrow() -> Any:
+    try:
+        import pyarrow as pa
+    except ImportError:  # pragma: no cover - depends on the environment
+        raise GeofeasError("geofeas.arrow needs pyarrow: pip install 'geofeas[io]'") from None
+    return pa
+
+
+def to_pandas(table: Any, /) -> Any:
+    """An Arrow table (or record batch, or Parquet path) as a pandas frame of plain columns.
+
+    Dictionary-encoded columns are decoded to their values by Arrow (``pyarrow.compute.cast``)
+    so that ids read as strings or numbers, not as pandas categoricals.
+    """
+    pa = _pyarrow()
+    if isinstance(table, (str, os.PathLike)):
+        import pyarrow.parquet as pq
+
+        try:
+            table = pq.read_table(Path(table))
+        except (OSError, pa.ArrowInvalid) as exc:
+            raise GeofeasError(f"{table}: {exc}") from None
+    if isinstance(table, pa.RecordBatch):
+        table = pa.Table.from_batches([table])
+    if not isinstance(table, pa.Table):
+        raise GeofeasError(
+            f"expected a pyarrow Table or RecordBatch or a Parquet path, got {type(table).__name__}"
+        )
+    for i, field in enumerate(table.schema):
+        if pa.types.is_dictionary(field.type):
+            table = table.set_column(i, field.name, table.column(i).cast(field.type.value_type))
+    return table.to_pandas()
+
+
+def read_reports(table: Any, /, *, coords: str = "auto") -> Reports:
+    """:func:`geofeas.read_reports` of an Arrow table, record batch or Parquet path."""
+    return _read(to_pandas(table), coords=coords)
+
+
+def associate(table: Any, /, **options: Any) -> Association:
+    """:func:`geofeas.associate` of an Arrow table, record batch or Parquet path."""
+    return _associate(read_reports(table, coords=options.pop("coords", "auto")), **options)
+
+
+def pairs_table(association: Association, /) -> Any:
+    """The pairs of an association as a ``pyarrow.Table``."""
+    return _pyarrow().Table.from_pandas(association.pairs, preserve_index=False)
+
+
+def objects_table(association: Association, /) -> Any:
+    """The objects (track id, object, source) of an association as a ``pyarrow.Table``."""
+    return _pyarrow().Table.from_pandas(association.objects, preserve_index=False)
+
+
+def write_parquet(association: Association, directory: str | os.PathLike[str], /) -> None:
+    """Write ``pairs.parquet`` and ``objects.parquet`` into ``directory`` (created if absent)."""
+    import pyarrow.parquet as pq
+
+    out = Path(directory)
+    out.mkdir(parents=True, exist_ok=True)
+    pq.write_table(pairs_table(association), out / "pairs.parquet")
+    pq.write_table(objects_table(association), out / "objects.parquet")

@@ -1,0 +1,768 @@
+"""Track-to-track association of a picture larger than one machine, on Dask.
+
+Install with ``pip install "geofeas[dask]"``. :func:`associate` takes the same reports and
+options as :func:`geofeas.associate` — a Dask DataFrame, a pandas DataFrame, a ``pyarrow.Table``
+or a path to Parquet / CSV files — and returns the same :class:`geofeas.Association` (the same
+pairs, bit-identical scores, the same classes and objects), computed on whatever Dask scheduler
+is active (a ``distributed.Client`` if one exists).
+
+How it is cut up (the argument in full is in ``docs/fusion-stacks.md``):
+
+1. every partition is read by :func:`geofeas.read_reports` (errors name the caller's row) and
+   reduced to per-track partial aggregates — count, time span, extent of the report centres
+   (planar ``x, y``, or WGS84 ECEF metres for ``lat, lon``), largest 2-sigma semi-axis, first
+   and last two reports — which combine over any split of a track's reports, so the reports are
+   not shuffled for this. Each track gets a closed space-time box (:func:`track_boxes`): that
+   extent grown by a **halo** bounding every box the engine's candidate index can give any
+   chunk of the track — the largest semi-axis, the Brownian-bridge term ``sqrt(q T)`` of an
+   interpolated gap ``T <= min(max_gap, span)``, the extrapolation ``|v| h + 2 sqrt(q h)`` at
+   the ends when ``horizon = h > 0``, the geodesic sagitta in geographic mode — and by ``h`` in
+   time. Two tracks can only be a candidate pair when their boxes intersect;
+2. the picture is a grid of space-time tiles; every report is copied into each tile its track's
+   box meets (ids and sources replaced by their indices among the sorted ids, times by seconds:
+   numbers only), in one shuffle; each tile then holds whole tracks and finds its candidate
+   pairs with the engine's space-time index;
+3. a tile keeps, and scores, only the pairs it *owns*: those whose box intersection has its
+   lower corner in the tile (:mod:`geofeas._tiling`). Every candidate pair is therefore scored
+   exactly once, with the very reports, options and track order of the single-machine run;
+4. the triage classes and the grouping into objects are global (one ship's tracks may cross
+   tiles), so they run once, on the gathered pairs, with the engine's own grouping.
+
+Tasks are pure functions of their inputs, so Dask's retry recomputes the work of a lost worker
+and the result does not change.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import _core
+from ._core import GeofeasError
+from ._tiling import Grid, explode, owner
+from .association import (
+    DEFAULT_UPPER,
+    GEOGRAPHIC,
+    PLANAR,
+    Association,
+    Reports,
+    _score_options,
+    read_reports,
+)
+
+try:
+    import dask.dataframe as dd
+    import pandas as pd  # type: ignore[import-untyped,unused-ignore]
+except ImportError as exc:  # pragma: no cover - exercised by test_missing_dask
+    raise ImportError(
+        f"geofeas.dask needs Dask and pandas: pip install 'geofeas[dask]' ({exc})"
+    ) from exc
+
+__all__ = ["associate", "track_boxes"]
+
+#: WGS84 semi-major axis and flattening (the engine's geodesy constants).
+_WGS84_A = 6_378_137.0
+_WGS84_F = 1.0 / 298.257_223_563
+#: The smallest radius of curvature of the WGS84 ellipsoid, b^2 / a (m).
+_MIN_CURVATURE_RADIUS = _WGS84_A * (1.0 - _WGS84_F) ** 2
+_REQUIRED = ("track_id", "source", "time")
+
+
+def _columns(frame_columns: Any, coords: str) -> tuple[str, tuple[str, ...]]:
+    cols = {str(c) for c in frame_columns}
+    missing = [c for c in _REQUIRED if c not in cols]
+    if missing:
+        raise GeofeasError(f"reports: missing column(s) {', '.join(missing)}")
+    if coords == "auto":
+        planar, geo = set(PLANAR) <= cols, set(GEOGRAPHIC) <= cols
+        if planar and geo:
+            raise GeofeasError(
+                "reports: both planar (x, y, rx, ry, phi) and geographic (lat, lon, rx, ry, "
+                "bearing) columns are present; pass coords='planar' or coords='geographic'"
+            )
+        if not (planar or geo):
+            raise GeofeasError(
+                "reports: expected the columns x, y, rx, ry, phi (planar) or lat, lon, rx, ry, "
+                f"bearing (geographic); got {', '.join(sorted(cols))}"
+            )
+        coords = "planar" if planar else "geographic"
+    if coords not in ("planar", "geographic"):
+        raise GeofeasError(f"coords: expected 'auto', 'planar' or 'geographic', got {coords!r}")
+    aou = PLANAR if coords == "planar" else GEOGRAPHIC
+    absent = [c for c in aou if c not in cols]
+    if absent:
+        raise GeofeasError(f"reports: {coords} mode needs the column(s) {', '.join(absent)}")
+    return coords, _REQUIRED + aou
+
+
+def _ecef(lat: NDArray[np.float64], lon: NDArray[np.float64]) -> NDArray[np.float64]:
+    """WGS84 Earth-centred Earth-fixed coordinates (m) at height 0."""
+    e2 = _WGS84_F * (2.0 - _WGS84_F)
+    sp, cp = np.sin(np.radians(lat)), np.cos(np.radians(lat))
+    sl, cl = np.sin(np.radians(lon)), np.cos(np.radians(lon))
+    n = _WGS84_A / np.sqrt(1.0 - e2 * sp * sp)
+    return np.column_stack([n * cp * cl, n * cp * sl, n * (1.0 - e2) * sp])
+
+
+def _global_rows(exc: GeofeasError, rows: NDArray[np.int64]) -> GeofeasError:
+    """The engine's error with its partition-local row numbers replaced by the caller's."""
+
+    def sub(m: re.Match[str]) -> str:
+        k = int(m.group(2))
+        return f"{m.group(1)}{int(rows[k]) if 0 <= k < len(rows) else k}"
+
+    return GeofeasError(re.sub(r"(\brow )(\d+)", sub, str(exc)))
+
+
+def _partials(rep: Reports) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Per-track aggregates of some of a track's reports, and its first and last two reports.
+
+    Both combine over any split of the reports (:func:`_combine`), so the tracks' boxes need no
+    shuffle of the reports.
+    """
+    n = len(rep)
+    geo = rep.coords == "geographic"
+    p = _ecef(rep.aou[:, 0], rep.aou[:, 1]) if geo else rep.aou[:, :2]
+    d = p.shape[1]
+    order = np.lexsort((rep.time, rep.track))
+    c = rep.track[order].astype(np.int64)
+    first = np.flatnonzero(np.r_[True, c[1:] != c[:-1]]) if n else np.zeros(0, np.int64)
+    last = np.r_[first[1:] - 1, n - 1] if n else np.zeros(0, np.int64)
+    ps, ts = p[order], rep.time[order]
+    r = np.maximum(rep.aou[order, 2], rep.aou[order, 3])
+    agg: dict[str, Any] = {
+        "track_id": rep.track_ids[c[first]] if n else rep.track_ids[:0],
+        "source": rep.sources[rep.source[order][first]] if n else rep.sources[:0],
+        "reports": (last - first + 1).astype(np.int64),
+        "tmin": ts[first],
+        "tmax": ts[last],
+        "rmax": np.maximum.reduceat(r, first) if n else np.zeros(0),
+    }
+    for k in range(d):
+        agg[f"pmin{k}"] = np.minimum.reduceat(ps[:, k], first) if n else np.zeros(0)
+        agg[f"pmax{k}"] = np.maximum.reduceat(ps[:, k], first) if n else np.zeros(0)
+    # first two and last two reports of each track (by time)
+    pos = np.arange(n) - np.repeat(first, last - first + 1) if n else np.zeros(0, np.int64)
+    back = np.repeat(last, last - first + 1) - np.arange(n) if n else np.zeros(0, np.int64)
+    end = np.flatnonzero((pos < 2) | (back < 2))
+    ends: dict[str, Any] = {"track_id": rep.track_ids[c[end]], "t": ts[end]}
+    for k in range(d):
+        ends[f"p{k}"] = ps[end, k]
+    names = PLANAR if rep.coords == "planar" else GEOGRAPHIC
+    for k, name in enumerate(names):
+        ends[name] = rep.aou[order[end], k]
+    return pd.DataFrame(agg), pd.DataFrame(ends)
+
+
+def _combine(
+    aggs: list[pd.DataFrame],
+    ends: list[pd.DataFrame],
+    coords: str,
+    *,
+    max_gap: float,
+    horizon: float,
+    process_noise: float,
+    halo: float,
+) -> pd.DataFrame:
+    """The track table, sorted by track id as the engine numbers tracks (see module docs)."""
+    geo = coords == "geographic"
+    d = 3 if geo else 2
+    q, h, big_r = float(process_noise), float(horizon), _MIN_CURVATURE_RADIUS
+    agg = pd.concat(aggs, ignore_index=True)
+    how = {"reports": "sum", "tmin": "min", "tmax": "max", "rmax": "max", "source": "first"}
+    for k in range(d):
+        how[f"pmin{k}"] = "min"
+        how[f"pmax{k}"] = "max"
+    tr = agg.groupby("track_id", sort=False).agg(how)
+    try:
+        ids, inverse = np.unique(tr.index.to_numpy(), return_inverse=True)
+    except TypeError:
+        raise GeofeasError(
+            "column track_id: ids must be all strings or all numbers (partitions differ)"
+        ) from None
+    tr = tr.iloc[np.argsort(inverse.reshape(-1), kind="stable")]
+    ntr = len(tr)
+    pmin = tr[[f"pmin{k}" for k in range(d)]].to_numpy(np.float64).reshape(ntr, d)
+    pmax = tr[[f"pmax{k}" for k in range(d)]].to_numpy(np.float64).reshape(ntr, d)
+    tmin, tmax = tr["tmin"].to_numpy(np.float64), tr["tmax"].to_numpy(np.float64)
+
+    # interpolation: every interpolated gap T satisfies T <= max_gap and T <= the track's span;
+    # geographic: its chord is at most the diagonal of the track's box
+    span = np.minimum(tmax - tmin, max_gap)
+    seg = np.sqrt(q * np.maximum(span, 0.0))
+    if geo:
+        diag = np.linalg.norm(pmax - pmin, axis=1)
+        arc = diag * (1.0 + diag * diag / big_r**2)
+        seg = seg + arc * arc / (8.0 * big_r)
+
+    # extrapolation at both ends, at the speed of the end pair when it is connected
+    e = pd.concat(ends, ignore_index=True).drop_duplicates(["track_id", "t"])
+    e = e.assign(_k=np.searchsorted(ids, e["track_id"].to_numpy())).sort_values(
+        ["_k", "t"], kind="stable"
+    )
+    k = e["_k"].to_numpy()
+    first_rows = np.flatnonzero(np.r_[True, k[1:] != k[:-1]]) if len(e) else np.zeros(0, int)
+    last_rows = np.r_[first_rows[1:] - 1, len(e) - 1] if len(e) else np.zeros(0, int)
+    end_extra = np.zeros(ntr)
+    if h > 0:
+        end_extra[:] = 2.0 * math.sqrt(q * h)
+        et = e["t"].to_numpy(np.float64)
+        ep = e[[f"p{j}" for j in range(d)]].to_numpy(np.float64)
+        multi = last_rows > first_rows
+        for i0, i1 in ((first_rows, first_rows + 1), (last_rows - 1, last_rows)):
+            i0c, i1c = np.where(multi, i0, first_rows), np.where(multi, i1, first_rows)
+            dt = et[i1c] - et[i0c]
+            chord = np.linalg.norm(ep[i1c] - ep[i0c], axis=1)
+            arc_e = chord * (1.0 + chord * chord / big_r**2) if geo else chord
+            moving = multi & (dt <= max_gap) & (dt > 0)
+            speed = np.where(moving, arc_e / np.where(moving, dt, 1.0), 0.0)
+            length = speed * h
+            grow = length + 2.0 * math.sqrt(q * h)
+            if geo:
+                grow = grow + length * length / (8.0 * big_r)
+            end_extra = np.maximum(end_extra, grow)
+
+    # the engine pads its boxes by 1e-9 |v| against rounding; 1e4 times that and 1 mm here
+    scale = np.maximum(np.abs(pmin), np.abs(pmax)).max(axis=1, initial=1.0)
+    rmax = tr["rmax"].to_numpy(np.float64)
+    grow = (rmax + seg + end_extra) * (1.0 + 1e-9) + 1e-5 * scale + 1e-3
+    grow = np.maximum(grow, float(halo))
+    tpad = 1e-9 * np.maximum(np.abs(tmin), np.abs(tmax)).clip(min=1.0) + 1e-6
+    out: dict[str, Any] = {
+        "track_id": ids,
+        "source": tr["source"].to_numpy(),
+        "start": tmin,
+        "end": tmax,
+        "reports": tr["reports"].to_numpy(np.int64),
+        "halo": grow,
+    }
+    for j in range(d):
+        out[f"lo{j}"] = pmin[:, j] - grow
+        out[f"hi{j}"] = pmax[:, j] + grow
+    out[f"lo{d}"] = tmin - h - tpad
+    out[f"hi{d}"] = tmax + h + tpad
+    names = PLANAR if coords == "planar" else GEOGRAPHIC
+    out["first_time"] = e["t"].to_numpy(np.float64)[first_rows]
+    for name in names:
+        out[f"first_{name}"] = e[name].to_numpy(np.float64)[first_rows]
+    return pd.DataFrame(out)
+
+
+def track_boxes(
+    reports: Any,
+    /,
+    *,
+    coords: str = "auto",
+    max_gap: float = 300.0,
+    horizon: float = 0.0,
+    process_noise: float = 2.0,
+    halo: float = 0.0,
+) -> pd.DataFrame:
+    """One row per track: its source, span and the space-time box of the distributed tiling.
+
+    Parameters
+    ----------
+    reports : anything :func:`geofeas.read_reports` accepts
+    coords, max_gap, horizon, process_noise
+        As for :func:`geofeas.associate`.
+    halo : float
+        A lower bound on the spatial halo (m).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Sorted by ``track_id``: ``track_id, source, start, end, reports, halo`` and the box
+        ``lo0 .. lo{d}``, ``hi0 .. hi{d}`` over the ``d`` spatial dimensions (``x, y``; ECEF
+        ``X, Y, Z`` for geographic reports) and time (the last); every chunk box of the
+        engine's candidate index for the track lies inside (see the module docs). Then the
+        track's first report (``first_time``, ``first_x`` ...).
+    """
+    rep = read_reports(reports, coords=coords)
+    agg, ends = _partials(rep)
+    return _combine(
+        [agg],
+        [ends],
+        rep.coords,
+        max_gap=max_gap,
+        horizon=horizon,
+        process_noise=process_noise,
+        halo=halo,
+    )
+
+
+def _as_dask(reports: Any, npartitions: int | None) -> dd.DataFrame:
+    if isinstance(reports, dd.DataFrame):
+        out = reports
+    elif isinstance(reports, str) or hasattr(reports, "__fspath__"):
+        path = str(reports)
+        out = dd.read_csv(path) if path.lower().endswith(".csv") else dd.read_parquet(path)
+    else:
+        if type(reports).__module__.split(".")[0] == "pyarrow" and hasattr(reports, "to_pandas"):
+            reports = reports.to_pandas()
+        if isinstance(reports, Mapping):
+            reports = pd.DataFrame(dict(reports))
+        if not isinstance(reports, pd.DataFrame):
+            raise GeofeasError(
+                "reports: expected a Dask or pandas DataFrame, a pyarrow Table, a mapping of "
+                f"columns or a path to Parquet / CSV files, got {type(reports).__name__}"
+            )
+        parts = npartitions or max(1, min(64, len(reports) // 100_000 + 1))
+        return dd.from_pandas(reports.reset_index(drop=True), npartitions=parts, sort=False)
+    return out if npartitions is None else out.repartition(npartitions=npartitions)
+
+
+_ROW_BITS = 40  # a row is named (partition << 40) + row-in-partition until an error needs it
+
+
+def _reports_of(part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, ...]) -> Reports:
+    """``read_reports`` of one partition; errors name ``(pidx << 40) + row``."""
+    rows = (np.int64(pidx) << _ROW_BITS) + np.arange(len(part), dtype=np.int64)
+    frame = part.loc[:, list(columns)].reset_index(drop=True)
+    for c in ("track_id", "source"):  # categorical columns (from Parquet) as their values
+        if isinstance(frame[c].dtype, pd.CategoricalDtype):
+            frame[c] = frame[c].astype(frame[c].cat.categories.dtype)
+    try:
+        return read_reports(frame, coords=coords)
+    except GeofeasError as exc:
+        raise _global_rows(exc, rows) from None
+
+
+def _partition_partials(part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, ...]):
+    return _partials(_reports_of(part, pidx, coords, columns))
+
+
+def _to_tiles(
+    part: pd.DataFrame,
+    coords: str,
+    columns: tuple[str, ...],
+    track_ids: NDArray[Any],
+    sources: NDArray[Any],
+    first_copy: NDArray[np.int64],
+    copies: NDArray[np.int64],
+    keys: NDArray[np.int64],
+    partition_info: Any = None,
+) -> pd.DataFrame:
+    """The reports of a partition, parsed, numbered and copied into their tracks' tiles.
+
+    Ids become the track's index among all sorted track ids (``track_id``) and the source's
+    among all sorted sources (``source``), times become seconds: every column is numeric, and
+    the engine, which numbers a tile's tracks by their sorted ids, numbers them in the same
+    order as the whole picture.
+    """
+    pidx = int(partition_info["number"]) if partition_info else 0
+    rep = _reports_of(part, pidx, coords, columns)
+    gid = np.searchsorted(track_ids, rep.track_ids)[rep.track].astype(np.int64)
+    src = np.searchsorted(sources, rep.sources)[rep.source].astype(np.int64)
+    count = copies[gid]
+    row = np.repeat(np.arange(len(rep), dtype=np.int64), count)
+    start = np.repeat(first_copy[gid] - np.cumsum(count) + count, count)
+    tile = keys[start + np.arange(row.size, dtype=np.int64)]
+    names = PLANAR if coords == "planar" else GEOGRAPHIC
+    out: dict[str, Any] = {
+        "track_id": gid[row],
+        "source": src[row],
+        "time": rep.time[row],
+    }
+    for k, name in enumerate(names):
+        out[name] = rep.aou[row, k]
+    out["_row"] = (np.int64(pidx) << _ROW_BITS) + row
+    out["_tile"] = tile
+    return pd.DataFrame(out)
+
+
+def _tiles_meta(coords: str) -> pd.DataFrame:
+    names = PLANAR if coords == "planar" else GEOGRAPHIC
+    cols: dict[str, Any] = {"track_id": np.zeros(0, np.int64), "source": np.zeros(0, np.int64)}
+    cols["time"] = np.zeros(0)
+    for name in names:
+        cols[name] = np.zeros(0)
+    cols["_row"] = np.zeros(0, np.int64)
+    cols["_tile"] = np.zeros(0, np.int64)
+    return pd.DataFrame(cols)
+
+
+def _pairs_frame(n: int = 0) -> dict[str, Any]:
+    return {
+        "a": np.zeros(n, np.uint32),
+        "b": np.zeros(n, np.uint32),
+        "score": np.zeros(n),
+        "instants": np.zeros(n, np.int64),
+    }
+
+
+def _score_tiles(
+    part: pd.DataFrame,
+    grid: Grid,
+    coords: str,
+    columns: tuple[str, ...],
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+    track_ids: NDArray[Any],
+    sources: NDArray[Any],
+    index: dict[str, Any],
+    scoring: dict[str, Any],
+) -> pd.DataFrame:
+    """The candidate pairs each tile of a partition owns, scored by the engine.
+
+    Tracks arrive under their global indices (``track_id``), so the engine numbers a tile's
+    tracks in the order of the whole picture: every pair keeps its orientation ``a < b`` and
+    the order of its floating-point operations.
+    """
+    geographic = coords == "geographic"
+    out = [pd.DataFrame(_pairs_frame())]
+    for tile, rows in part.groupby("_tile", sort=True):
+        rows = rows.sort_values("_row", kind="stable")  # the caller's order
+        try:  # whole tracks here: the cross-report checks (one source, distinct times) bite
+            rep = read_reports(rows.loc[:, list(columns)].reset_index(drop=True), coords=coords)
+        except GeofeasError as exc:  # the caller's rows, ids and sources
+            text = str(_global_rows(exc, rows["_row"].to_numpy(np.int64)))
+            for word, names in (("track", track_ids), ("source", sources)):
+                text = re.sub(
+                    rf"\b{word} (?:np\.int64\()?(\d+)\)?",
+                    lambda m, w=word, v=names: f"{w} {v[int(m.group(1))]!r}",
+                    text,
+                )
+            raise GeofeasError(text) from None
+        gid = np.asarray(rep.track_ids, dtype=np.int64)
+        track, source, time, aou, n_local = rep._core_args()
+        a, b = _core.association_candidates(
+            track, source, time, aou, n_local, geographic=geographic, **index
+        )
+        if not len(a):
+            continue
+        ga, gb = gid[a], gid[b]
+        keys, meets = owner(lo[ga], hi[ga], lo[gb], hi[gb], grid)
+        if not meets.all():
+            k = int(np.flatnonzero(~meets)[0])
+            raise GeofeasError(
+                f"internal: tracks {ga[k]} and {gb[k]} are a candidate pair but their boxes do "
+                "not meet: the halo bound is broken"
+            )
+        mine = keys == tile
+        score, instants = _core.association_score_pairs(
+            track,
+            source,
+            time,
+            aou,
+            n_local,
+            np.ascontiguousarray(a[mine]),
+            np.ascontiguousarray(b[mine]),
+            geographic=geographic,
+            **scoring,
+        )
+        out.append(
+            pd.DataFrame(
+                {
+                    "a": ga[mine].astype(np.uint32),
+                    "b": gb[mine].astype(np.uint32),
+                    "score": np.asarray(score, np.float64),
+                    "instants": np.asarray(instants, np.int64),
+                }
+            )
+        )
+    return pd.concat(out, ignore_index=True)
+
+
+def _tile_size(
+    lo: NDArray[np.float64], hi: NDArray[np.float64], target: int
+) -> NDArray[np.float64]:
+    """Default tile: about ``target`` tiles, each at least 4x the 90th percentile track box."""
+    dims = lo.shape[1]
+    spatial = dims - 1
+    extent = np.maximum(hi.max(axis=0) - lo.min(axis=0), 1e-9)
+    side = np.quantile(hi - lo, 0.9, axis=0)
+    # spread the target over two horizontal axes (ECEF boxes are thin along the third)
+    per_axis = max(1, math.ceil(math.sqrt(target)))
+    size = np.empty(dims)
+    size[:spatial] = max(
+        float(np.sort(extent[:spatial])[-2:].min()) / per_axis,
+        4.0 * float(side[:spatial].max()),
+        1.0,
+    )
+    size[spatial] = max(float(extent[spatial]), 1.0)  # time: one slab unless asked
+    return size
+
+
+class DistributedAssociation(Association):
+    """:class:`geofeas.Association` computed on Dask.
+
+    ``pairs``, ``objects``, ``candidates`` and ``options`` are those the single-machine
+    :func:`geofeas.associate` gives. The reports themselves stay where they were: ``reports``
+    holds the first report of every track (enough for :meth:`assignment`), ``tracks`` the
+    per-track summary with the space-time boxes and ``tiles`` the number of tiles used.
+    """
+
+    def __init__(
+        self,
+        reports: Reports,
+        raw: Mapping[str, Any],
+        options: dict[str, Any],
+        tracks: pd.DataFrame,
+        tiles: int,
+    ) -> None:
+        super().__init__(reports, raw, options)
+        self.tracks = tracks
+        self.tiles = tiles
+
+
+def associate(
+    reports: Any,
+    /,
+    *,
+    tile: tuple[float, float] | None = None,
+    halo: float = 0.0,
+    npartitions: int | None = None,
+    coords: str = "auto",
+    score: str = "glr",
+    combine: str = "chi2",
+    lower: float = 0.5,
+    upper: float = DEFAULT_UPPER,
+    max_gap: float = 300.0,
+    horizon: float = 0.0,
+    process_noise: float = 2.0,
+    same_source: bool = False,
+    correlation_time: float = 60.0,
+    window: float = 300.0,
+    **score_options: Any,
+) -> DistributedAssociation:
+    """:func:`geofeas.associate` on Dask: the same pairs, scores, classes and objects.
+
+    Parameters
+    ----------
+    reports : dask or pandas DataFrame, pyarrow.Table, mapping of columns, or path
+        The columns of :func:`geofeas.read_reports`. A path ending in ``.csv`` is read with
+        ``dask.dataframe.read_csv``, any other (Parquet files or a directory of them) with
+        ``dask.dataframe.read_parquet``. Errors name the row of the whole table (0-based).
+    tile : (float, float), optional
+        Tile size ``(metres, seconds)``. Default: about four tiles per partition, each at least
+        four times the 90th percentile of the tracks' box sizes, one slab in time. The tile
+        size changes the cost only, never the result.
+    halo : float
+        A lower bound (m) on every track's spatial halo. The halo is chosen from the data and
+        is always sufficient; a larger value only copies more tracks.
+    npartitions : int, optional
+        Partitions of the reports (default: the input's, or one per 100,000 rows).
+    coords, score, combine, lower, upper, max_gap, horizon, process_noise, same_source, \
+correlation_time, window, **score_options
+        As for :func:`geofeas.associate`.
+
+    Returns
+    -------
+    DistributedAssociation
+        A :class:`geofeas.Association` with ``tracks`` (the per-track boxes) and ``tiles``.
+    """
+    ddf = _as_dask(reports, npartitions)
+    coords, columns = _columns(ddf.columns, coords)
+    if not (isinstance(halo, (int, float)) and math.isfinite(halo) and halo >= 0):
+        raise GeofeasError(f"halo: must be a finite number >= 0, got {halo!r}")
+    name, opts = _score_options(score, score_options)
+    options = dict(
+        score=score,
+        combine=combine,
+        lower=float(lower),
+        upper=float(upper),
+        max_gap=float(max_gap),
+        horizon=float(horizon),
+        process_noise=float(process_noise),
+        same_source=bool(same_source),
+        correlation_time=float(correlation_time),
+        window=float(window),
+        **score_options,
+    )
+    index = dict(
+        max_gap=float(max_gap),
+        horizon=float(horizon),
+        process_noise=float(process_noise),
+        same_source=bool(same_source),
+        window=float(window),
+    )
+    scoring = dict(
+        score=name,
+        combine=combine,
+        max_gap=float(max_gap),
+        horizon=float(horizon),
+        process_noise=float(process_noise),
+        correlation_time=float(correlation_time),
+        **opts,
+    )
+    # every option checked by the engine before any work is distributed
+    empty = {c: np.zeros(0) for c in columns}
+    _core.associate(
+        *read_reports(empty, coords=coords)._core_args(),
+        geographic=coords == "geographic",
+        lower=float(lower),
+        upper=float(upper),
+        same_source=bool(same_source),
+        window=float(window),
+        **scoring,
+    )
+
+    ddf = ddf[list(columns)]
+    try:
+        return _run(ddf, coords, columns, tile, halo, index, scoring, options)
+    except GeofeasError as exc:
+        raise _name_rows(exc, ddf) from None
+
+
+def _name_rows(exc: GeofeasError, ddf: dd.DataFrame) -> GeofeasError:
+    """Replace the ``(partition << 40) + row`` row numbers of an error by rows of the table."""
+    text = str(exc)
+    if not re.search(rf"\brow \d{{{len(str(1 << _ROW_BITS))},}}", text):
+        return exc
+    offsets = np.concatenate([[0], np.cumsum(np.asarray(ddf.map_partitions(len).compute()))])
+
+    def sub(m: re.Match[str]) -> str:
+        v = int(m.group(2))
+        p, r = v >> _ROW_BITS, v & ((1 << _ROW_BITS) - 1)
+        return f"{m.group(1)}{int(offsets[p]) + r}" if p < len(offsets) - 1 else m.group(0)
+
+    return GeofeasError(re.sub(r"(\brow )(\d+)", sub, text))
+
+
+def _run(
+    ddf: dd.DataFrame,
+    coords: str,
+    columns: tuple[str, ...],
+    tile: tuple[float, float] | None,
+    halo: float,
+    index: dict[str, Any],
+    scoring: dict[str, Any],
+    options: dict[str, Any],
+) -> DistributedAssociation:
+    import dask
+
+    nparts = ddf.npartitions
+    # 1. per-track boxes from per-partition partial aggregates (no shuffle of the reports)
+    parts = ddf.to_delayed()
+    partial = dask.delayed(_partition_partials, pure=True)
+    results = dask.compute(*[partial(p, i, coords, columns) for i, p in enumerate(parts)])
+    tracks = _combine(
+        [r[0] for r in results],
+        [r[1] for r in results],
+        coords,
+        max_gap=index["max_gap"],
+        horizon=index["horizon"],
+        process_noise=index["process_noise"],
+        halo=halo,
+    )
+    track_ids = tracks["track_id"].to_numpy()
+    sources = np.unique(tracks["source"].to_numpy())
+    dims = sum(1 for c in tracks.columns if c.startswith("lo"))
+    lo = np.ascontiguousarray(tracks[[f"lo{k}" for k in range(dims)]].to_numpy(np.float64))
+    hi = np.ascontiguousarray(tracks[[f"hi{k}" for k in range(dims)]].to_numpy(np.float64))
+
+    # 2. the grid, and the tiles of every track
+    if tile is None:
+        size = _tile_size(lo, hi, 4 * nparts) if len(tracks) else np.ones(dims)
+    else:
+        if len(tile) != 2:
+            raise GeofeasError(f"tile: expected (metres, seconds), got {tile!r}")
+        size = np.r_[np.full(dims - 1, float(tile[0])), float(tile[1])]
+    grid = Grid.covering(lo, hi, size)
+    per_track = np.prod(grid.cell(hi) - grid.cell(lo) + 1, axis=1).astype(np.float64)
+    n_reports = tracks["reports"].to_numpy(np.float64)
+    copied = float(per_track @ n_reports)
+    if copied > max(1e6, 16.0 * n_reports.sum()):
+        raise GeofeasError(
+            f"tile: {tuple(size.tolist())} is too small for these tracks: the tiles would hold "
+            f"{copied / max(n_reports.sum(), 1):.0f} copies of every report on average; use "
+            "larger tiles (or the default)"
+        )
+    rows, keys = explode(lo, hi, grid)  # rows are sorted: the tiles of track 0, then 1, ...
+    copies = np.bincount(rows, minlength=len(tracks)).astype(np.int64)
+    first_copy = np.cumsum(copies) - copies
+    n_tiles = int(np.unique(keys).size)
+
+    # 3. reports, as numbers, copied into tiles; one shuffle; each tile scores the pairs it owns
+    tiled = ddf.map_partitions(
+        _to_tiles,
+        coords,
+        columns,
+        track_ids,
+        sources,
+        first_copy,
+        copies,
+        keys,
+        meta=_tiles_meta(coords),
+    )
+    tiled = tiled.shuffle("_tile", npartitions=max(1, min(n_tiles, 4 * nparts)))
+    scored = tiled.map_partitions(
+        _score_tiles,
+        grid,
+        coords,
+        columns,
+        lo,
+        hi,
+        track_ids,
+        sources,
+        index,
+        scoring,
+        meta=pd.DataFrame(_pairs_frame()),
+    )
+    pairs = scored.compute()
+    return _gather(pairs, tracks, track_ids, coords, options, n_tiles)
+
+
+def _gather(
+    pairs: pd.DataFrame,
+    tracks: pd.DataFrame,
+    track_ids: NDArray[Any],
+    coords: str,
+    options: dict[str, Any],
+    tiles: int,
+) -> DistributedAssociation:
+    """The global steps: candidates in the engine's order, triage and grouping once."""
+    candidates = len(pairs)
+    a = pairs["a"].to_numpy(np.uint32)
+    b = pairs["b"].to_numpy(np.uint32)
+    score = pairs["score"].to_numpy(np.float64)
+    instants = pairs["instants"].to_numpy(np.int64)
+    order = np.lexsort((b, a))
+    keep = order[instants[order] > 0]
+    if len(order) > 1:
+        key = a[order].astype(np.int64) * len(track_ids) + b[order]
+        if (np.diff(key) == 0).any():  # pragma: no cover - ownership makes this impossible
+            raise GeofeasError("internal: a candidate pair was scored in two tiles")
+    a, b, score, instants = a[keep], b[keep], score[keep], instants[keep]
+    sources, inverse = np.unique(tracks["source"].to_numpy(), return_inverse=True)
+    source: NDArray[np.uint32] = np.ascontiguousarray(inverse.reshape(-1), dtype=np.uint32)
+    start = tracks["start"].to_numpy(np.float64)
+    end = tracks["end"].to_numpy(np.float64)
+    klass, obj = _core.association_group(
+        np.ascontiguousarray(source),
+        np.ascontiguousarray(start),
+        np.ascontiguousarray(end),
+        np.ascontiguousarray(a),
+        np.ascontiguousarray(b),
+        np.ascontiguousarray(score),
+        lower=options["lower"],
+        upper=options["upper"],
+    )
+    names = PLANAR if coords == "planar" else GEOGRAPHIC
+    first = tracks[["track_id", "source", "first_time"] + [f"first_{n}" for n in names]]
+    first.columns = ["track_id", "source", "time", *names]
+    track_reports = Reports(
+        first,
+        coords=coords,
+        track_ids=track_ids,
+        track=np.arange(len(track_ids), dtype=np.uint32),
+        sources=sources,
+        source=source,
+        time=np.ascontiguousarray(tracks["first_time"].to_numpy(np.float64)),
+        aou=np.ascontiguousarray(first[list(names)].to_numpy(np.float64)),
+    )
+    raw = {
+        "a": a,
+        "b": b,
+        "score": score,
+        "instants": instants.astype(np.uint32),
+        "class": klass,
+        "object": obj,
+        "candidates": candidates,
+    }
+    return DistributedAssociation(track_reports, raw, options, tracks, tiles)

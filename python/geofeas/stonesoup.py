@@ -1,0 +1,371 @@
+"""Stone Soup measures backed by geofeasibility scores, and converters to and from reports.
+
+Install with ``pip install "geofeas[stonesoup]"``. The measures are ordinary Stone Soup
+:class:`~stonesoup.measures.Measure` objects, so Stone Soup's own associators
+(``TrackToTrackCounting``, ``OneToOneTrackAssociator``, ``TrackToTruth``, the hypothesisers)
+can use geofeasibility directly:
+
+* :class:`GLRMeasure` — the generalized likelihood ratio of seed 000, eq. 71,
+  ``g = exp(-0.5 d^T (R1 + R2)^-1 d)``, with the position covariances of *both* states
+  (Stone Soup's ``Mahalanobis`` measure uses the covariance of the first state only);
+* :class:`ThresholdedGLRMeasure` — the same with constraints 46-48 (exactly 0 when the 2-sigma
+  ellipses do not touch, exactly 1 when one lies inside the other);
+* :class:`OverlapMeasure` — the normalised overlap area of the 2-sigma AOU ellipses, eqs. 49-50.
+
+**Distance convention.** Stone Soup's associators treat a measure as a *distance*: a pair is
+"close" when the measure is at most (``TrackToTrackCounting``) or below (``OneToOneAssociator``)
+``association_threshold``, and ``OneToOneAssociator`` minimises the sum. A geofeasibility score
+``g`` is a similarity in ``[0, 1]``, so every measure returns a decreasing function of ``g``,
+chosen by ``distance``:
+
+* ``"complement"`` (default): ``1 - g`` in ``[0, 1]``; the paper's threshold ``g >= 0.5`` is
+  ``association_threshold=0.5``;
+* ``"neglog"``: ``-ln g`` in ``[0, inf]``; for the GLR this is half the squared Mahalanobis
+  distance with ``R1 + R2``, so it adds over independent instants (``inf`` when ``g == 0``).
+
+Either way ``g >= t`` is exactly ``distance <= 1 - t`` (or ``<= -ln t``).
+
+**States and tracks.** Called with two states, a measure scores their positions, selected by
+``mapping`` (and ``mapping2`` for the second state, as for every Stone Soup measure); positions
+are planar metres (x east, y north), as in the rest of geofeas. Called with two tracks
+(any :class:`~stonesoup.types.state.StateMutableSequence`), it scores the states at the
+timestamps both tracks have, in one vectorised call, and combines the per-instant scores with
+``combine`` (``"geometric"``, ``"arithmetic"``, ``"harmonic"`` or ``"min"``) before mapping the
+result to a distance; tracks with no common timestamp give ``None``, which Stone Soup's
+``OneToOneAssociator`` treats as "cannot associate". So one measure object serves both
+``TrackToTrackCounting`` (state by state) and ``OneToOneTrackAssociator`` (track by track).
+"""
+
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from datetime import datetime, timedelta, timezone
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._core import GeofeasError
+from .scores import DEFAULT_VERTICES, from_gaussian, glr, overlap, to_gaussian
+
+try:
+    import pandas as pd  # type: ignore[import-untyped,unused-ignore]
+    from stonesoup.base import Property  # type: ignore[import-untyped]
+    from stonesoup.measures import Measure  # type: ignore[import-untyped]
+    from stonesoup.measures.base import TrackMeasure  # type: ignore[import-untyped]
+    from stonesoup.types.state import GaussianState, StateMutableSequence  # type: ignore[import-untyped]
+    from stonesoup.types.track import Track  # type: ignore[import-untyped]
+except ImportError as exc:  # pragma: no cover - exercised by test_missing_stonesoup
+    raise ImportError(
+        f"geofeas.stonesoup needs Stone Soup and pandas: pip install 'geofeas[stonesoup]' ({exc})"
+    ) from exc
+
+__all__ = [
+    "GLRMeasure",
+    "GeofeasMeasure",
+    "OverlapMeasure",
+    "ThresholdedGLRMeasure",
+    "reports_to_tracks",
+    "tracks_to_reports",
+]
+
+_DISTANCES = ("complement", "neglog")
+_COMBINES = ("geometric", "arithmetic", "harmonic", "min")
+_EPOCH = datetime(1970, 1, 1)
+
+
+def _to_distance(g: float, kind: str) -> float:
+    if kind == "complement":
+        return 1.0 - g
+    return math.inf if g <= 0.0 else -math.log(g)
+
+
+def _combine(g: NDArray[np.float64], how: str) -> float:
+    if how == "arithmetic":
+        return float(np.mean(g))
+    if how == "min":
+        return float(np.min(g))
+    if np.any(g <= 0.0):
+        return 0.0
+    if how == "geometric":
+        return float(np.exp(np.mean(np.log(g))))
+    return float(g.size / np.sum(1.0 / g))  # harmonic
+
+
+def _position(
+    state: Any, mapping: Sequence[int] | None, what: str
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Mean (2,) and covariance (2, 2) of the position components of a Gaussian state."""
+    covar = getattr(state, "covar", None)
+    if covar is None:
+        raise GeofeasError(
+            f"{what}: a geofeas measure needs a Gaussian state with a covariance, got "
+            f"{type(state).__name__}"
+        )
+    vector = np.asarray(getattr(state, "mean", state.state_vector), dtype=np.float64)
+    covar = np.asarray(covar, dtype=np.float64)
+    index = list(range(vector.shape[0])) if mapping is None else list(mapping)
+    if len(index) != 2:
+        raise GeofeasError(
+            f"{what}: the mapping must select exactly 2 position components (x east, y north), "
+            f"got {len(index)}: {index}"
+        )
+    try:
+        mean = vector[index, 0]
+        cov = covar[np.ix_(index, index)]
+    except IndexError:
+        raise GeofeasError(
+            f"{what}: mapping {index} is out of range for a state of dimension {vector.shape[0]}"
+        ) from None
+    return mean, cov
+
+
+class GeofeasMeasure(Measure, TrackMeasure):
+    """Base of the geofeas measures: a geofeasibility score turned into a Stone Soup distance.
+
+    Subclasses implement :meth:`score`, the score of aligned arrays of 2-sigma ellipses.
+    """
+
+    distance: str = Property(
+        default="complement",
+        doc="How the score g in [0, 1] becomes a distance: 'complement' (1 - g) or 'neglog' "
+        "(-ln g).",
+    )
+    combine: str = Property(
+        default="geometric",
+        doc="How the per-instant scores of two tracks are combined: 'geometric', 'arithmetic', "
+        "'harmonic' or 'min'.",
+    )
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        if self.distance not in _DISTANCES:
+            raise GeofeasError(f"distance must be one of {_DISTANCES}, got {self.distance!r}")
+        if self.combine not in _COMBINES:
+            raise GeofeasError(f"combine must be one of {_COMBINES}, got {self.combine!r}")
+
+    def score(self, a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Scores of aligned ellipse arrays ``(n, 5)`` x ``(n, 5)`` -> ``(n,)``."""
+        raise NotImplementedError
+
+    def ellipses(self, states: Sequence[Any], *, second: bool = False) -> NDArray[np.float64]:
+        """The 2-sigma position ellipses ``(n, 5)`` of Gaussian states (``from_gaussian``)."""
+        mapping = self.mapping2 if second else self.mapping
+        means = np.empty((len(states), 2))
+        covs = np.empty((len(states), 2, 2))
+        for k, state in enumerate(states):
+            means[k], covs[k] = _position(state, mapping, f"state {k} ({state.timestamp})")
+        return from_gaussian(means, covs)
+
+    def similarity(self, item1: Any, item2: Any) -> float | None:
+        """The score ``g`` itself (a similarity in ``[0, 1]``); ``None`` for disjoint tracks."""
+        if isinstance(item1, StateMutableSequence) and isinstance(item2, StateMutableSequence):
+            first = {s.timestamp: s for s in item1.states}
+            second = {s.timestamp: s for s in item2.states}
+            times = sorted(first.keys() & second.keys())
+            if not times:
+                return None
+            a = self.ellipses([first[t] for t in times])
+            b = self.ellipses([second[t] for t in times], second=True)
+            return _combine(np.asarray(self.score(a, b), dtype=np.float64), self.combine)
+        if isinstance(item1, StateMutableSequence) or isinstance(item2, StateMutableSequence):
+            raise GeofeasError("a geofeas measure compares two states or two tracks, not a mix")
+        a = self.ellipses([item1])
+        b = self.ellipses([item2], second=True)
+        return float(self.score(a, b)[0])
+
+    def __call__(self, item1: Any, item2: Any) -> float | None:  # type: ignore[override]
+        """Distance between two Gaussian states, or two tracks (``None``: no common time)."""
+        g = self.similarity(item1, item2)
+        return None if g is None else _to_distance(g, self.distance)
+
+
+class GLRMeasure(GeofeasMeasure):
+    """Generalized likelihood ratio of seed 000, eq. 71, as a Stone Soup distance.
+
+    ``g = exp(-0.5 d^T (R1 + R2)^-1 d)`` with ``d`` the difference of the mapped positions and
+    ``R1``, ``R2`` their covariances. With ``distance="neglog"`` the measure is
+    ``0.5 d^T (R1 + R2)^-1 d``.
+    """
+
+    def score(self, a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+        out: NDArray[np.float64] = glr(a, b)
+        return out
+
+
+class ThresholdedGLRMeasure(GeofeasMeasure):
+    """The GLR with constraints 46-48: 0 when the 2-sigma ellipses do not touch, 1 when nested."""
+
+    def score(self, a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+        out: NDArray[np.float64] = glr(a, b, threshold=True)
+        return out
+
+
+class OverlapMeasure(GeofeasMeasure):
+    """Normalised overlap area of the 2-sigma AOU ellipses (seed 000, eqs. 49-50)."""
+
+    vertices: int = Property(
+        default=DEFAULT_VERTICES, doc="Polygon resolution of geofeas.overlap (>= 8)."
+    )
+
+    def score(self, a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+        out: NDArray[np.float64] = overlap(a, b, vertices=self.vertices)
+        return out
+
+
+def _seconds(timestamp: Any, what: str) -> float:
+    if isinstance(timestamp, datetime):
+        if timestamp.tzinfo is not None:
+            timestamp = timestamp.astimezone(timezone.utc).replace(tzinfo=None)
+        return (timestamp - _EPOCH).total_seconds()
+    if isinstance(timestamp, (int, float, np.integer, np.floating)) and not isinstance(
+        timestamp, bool
+    ):
+        return float(timestamp)
+    raise GeofeasError(f"{what}: timestamp must be a datetime or seconds, got {timestamp!r}")
+
+
+def tracks_to_reports(
+    tracks: Iterable[Any],
+    /,
+    *,
+    source: str | Mapping[str, str] | None = None,
+    mapping: Sequence[int] = (0, 2),
+) -> "pd.DataFrame":
+    """Stone Soup tracks of Gaussian states as a reports table (planar contract columns).
+
+    Parameters
+    ----------
+    tracks : iterable of stonesoup Track
+        Tracks whose states have covariances (``GaussianState``, ``GaussianStateUpdate``, ...).
+    source : str or mapping of track id to str, optional
+        The source of every track, or per track id. Default: each track's
+        ``metadata["source"]`` (as written by :func:`reports_to_tracks`).
+    mapping : sequence of 2 ints
+        Indices of x (east, metres) and y (north, metres) in the state vector; ``(0, 2)`` for
+        Stone Soup's constant-velocity ``[x, vx, y, vy]``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``track_id, source, time, x, y, rx, ry, phi``: ``time`` in seconds since the
+        Unix epoch (naive datetimes are taken as UTC), ``rx, ry`` the 2-sigma semi-axes and
+        ``phi`` the bearing of ``rx`` in radians clockwise from north (``geofeas.from_gaussian``).
+        One row per state, tracks in the given order.
+    """
+    ids: list[str] = []
+    sources: list[str] = []
+    times: list[float] = []
+    means: list[NDArray[np.float64]] = []
+    covs: list[NDArray[np.float64]] = []
+    for n, track in enumerate(tracks):
+        if not isinstance(track, StateMutableSequence):
+            raise GeofeasError(
+                f"track {n}: expected a Stone Soup track, got {type(track).__name__}"
+            )
+        track_id = str(track.id) if getattr(track, "id", None) is not None else str(n)
+        if isinstance(source, str):
+            src = source
+        elif source is not None:
+            if track_id not in source:
+                raise GeofeasError(f"track {track_id!r}: no source given for it in `source`")
+            src = str(source[track_id])
+        else:
+            meta = getattr(track, "metadata", {}) or {}
+            if "source" not in meta:
+                raise GeofeasError(
+                    f"track {track_id!r}: no source; pass source=... or set "
+                    "metadata['source'] on the track"
+                )
+            src = str(meta["source"])
+        for k, state in enumerate(track.states):
+            what = f"track {track_id!r} state {k}"
+            mean, cov = _position(state, mapping, what)
+            ids.append(track_id)
+            sources.append(src)
+            times.append(_seconds(state.timestamp, what))
+            means.append(mean)
+            covs.append(cov)
+    if means:
+        ell = from_gaussian(np.stack(means), np.stack(covs))
+    else:
+        ell = np.empty((0, 5))
+    return pd.DataFrame(
+        {
+            "track_id": pd.Series(ids, dtype=object),
+            "source": pd.Series(sources, dtype=object),
+            "time": np.asarray(times, dtype=np.float64),
+            "x": ell[:, 0],
+            "y": ell[:, 1],
+            "rx": ell[:, 2],
+            "ry": ell[:, 3],
+            "phi": ell[:, 4],
+        }
+    )
+
+
+_REQUIRED = ("track_id", "source", "time", "x", "y", "rx", "ry", "phi")
+
+
+def _times(column: "pd.Series") -> NDArray[np.float64]:
+    """Seconds since the Unix epoch of a time column (numbers, ISO-8601 strings, datetimes)."""
+    if pd.api.types.is_numeric_dtype(column) and not pd.api.types.is_bool_dtype(column):
+        return column.to_numpy(dtype=np.float64)
+    try:
+        parsed = pd.to_datetime(column, utc=True, format="ISO8601")
+    except (ValueError, TypeError) as exc:
+        raise GeofeasError(f"column 'time': cannot be read as ISO-8601 times ({exc})") from None
+    bad = np.flatnonzero(parsed.isna().to_numpy())
+    if bad.size:
+        raise GeofeasError(f"row {bad[0]}: column 'time' is missing or not a time")
+    epoch = pd.Timestamp(0, tz="UTC")
+    return ((parsed - epoch) / pd.Timedelta(seconds=1)).to_numpy(dtype=np.float64)
+
+
+def reports_to_tracks(reports: Any, /) -> set[Any]:
+    """A reports table as Stone Soup tracks of 2-D position Gaussian states.
+
+    Parameters
+    ----------
+    reports : pandas.DataFrame or mapping of column arrays
+        Planar contract columns ``track_id, source, time, x, y, rx, ry, phi`` (``time`` in
+        seconds since the Unix epoch or ISO-8601). Ellipses are validated by the core.
+
+    Returns
+    -------
+    set of stonesoup Track
+        One track per ``track_id`` (its ``id``), of ``GaussianState`` with state vector
+        ``[x, y]``, covariance from ``geofeas.to_gaussian`` (eqs. 56-59) and a naive UTC
+        ``datetime`` timestamp, sorted by time; ``metadata["source"]`` holds the source. Use
+        ``mapping=(0, 1)`` in the measures for these tracks.
+    """
+    df = reports if isinstance(reports, pd.DataFrame) else pd.DataFrame(dict(reports))
+    missing = [c for c in _REQUIRED if c not in df.columns]
+    if missing:
+        hint = " (project lat/lon reports to planar metres first)" if "lat" in df.columns else ""
+        raise GeofeasError(f"reports: missing column(s) {missing}{hint}")
+    ell = np.column_stack([df[c].to_numpy(dtype=np.float64) for c in ("x", "y", "rx", "ry", "phi")])
+    means, covs = to_gaussian(ell) if len(df) else (np.empty((0, 2)), np.empty((0, 2, 2)))
+    seconds = _times(df["time"])
+    bad = np.flatnonzero(~np.isfinite(seconds))
+    if bad.size:
+        raise GeofeasError(f"row {bad[0]}: column 'time' must be finite, got {seconds[bad[0]]}")
+    ids = df["track_id"].astype(str).to_numpy()
+    srcs = df["source"].astype(str).to_numpy()
+    tracks: set[Any] = set()
+    for track_id, rows in pd.Series(ids).groupby(ids, sort=True).indices.items():
+        rows = rows[np.argsort(seconds[rows], kind="stable")]
+        track_sources = set(srcs[rows])
+        if len(track_sources) > 1:
+            raise GeofeasError(
+                f"row {rows[0]}: track {track_id!r} has several sources {sorted(track_sources)}"
+            )
+        states = [
+            GaussianState(
+                means[r].reshape(2, 1),
+                covs[r],
+                timestamp=_EPOCH + timedelta(microseconds=round(float(seconds[r]) * 1e6)),
+            )
+            for r in rows
+        ]
+        tracks.add(Track(states, id=str(track_id), init_metadata={"source": srcs[rows[0]]}))
+    return tracks

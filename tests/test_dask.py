@@ -1,0 +1,303 @@
+"""Distributed association on a real ``distributed.LocalCluster`` equals the single-machine one.
+
+Every comparison is exact: the same pairs, bit-identical scores, the same numbers of instants,
+classes and objects as ``geofeas.associate`` on the whole picture, with and without a worker
+process killed in the middle of the run. The cluster listens on the loopback interface only.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+import numpy as np
+import pytest
+
+pytest.importorskip("dask")
+distributed = pytest.importorskip("distributed")
+pd = pytest.importorskip("pandas")
+
+import cloudpickle  # noqa: E402
+import dask.dataframe as dd  # noqa: E402
+from distributed import WorkerPlugin  # noqa: E402
+
+import geofeas  # noqa: E402
+import geofeas.dask as gd  # noqa: E402
+from geofeas import GeofeasError  # noqa: E402
+
+# the worker plugin below travels to the worker processes by value
+cloudpickle.register_pickle_by_value(sys.modules[__name__])
+
+
+def aou_cov(rx: np.ndarray, ry: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """Eqs. 56-58: R = U diag(rx^2/4, ry^2/4) U^T, U = [[sin, cos], [cos, -sin]]."""
+    s, c = np.sin(phi), np.cos(phi)
+    u = np.stack([np.stack([s, c], -1), np.stack([c, -s], -1)], -2)
+    lam = np.zeros((len(rx), 2, 2))
+    lam[:, 0, 0], lam[:, 1, 1] = rx**2 / 4, ry**2 / 4
+    return u @ lam @ np.swapaxes(u, -1, -2)
+
+
+def picture(seed: int = 1, ships: int = 60, area: float = 30_000.0, hours: float = 1.0):
+    """Ships seen by AIS (every 60 s, 10 m) and radar (every 20 s, elongated, track breaks).
+
+    A third of the ships sail in pairs 150-400 m apart, so that near-duplicates, borderline
+    pairs and grouping conflicts occur; times are seconds.
+    """
+    rng = np.random.default_rng(seed)
+    pos0 = rng.uniform(0, area, (ships, 2))
+    pos0[1 : ships // 3 : 2] = pos0[0 : ships // 3 - 1 : 2] + rng.uniform(150, 400, (1, 2))
+    heading = rng.uniform(0, 2 * np.pi, ships)
+    heading[1 : ships // 3 : 2] = heading[0 : ships // 3 - 1 : 2]
+    speed = rng.uniform(3, 10, ships)
+    vel = np.column_stack([np.sin(heading), np.cos(heading)]) * speed[:, None]
+    frames = []
+    duration = hours * 3600
+    for source, step, rx, ry in (("ais", 60.0, 20.0, 20.0), ("radar", 20.0, 150.0, 60.0)):
+        for i in range(ships):
+            t = np.arange(rng.uniform(0, step), duration, step)
+            t = t + rng.uniform(-1, 1, t.size)
+            n = t.size
+            phi = np.full(n, rng.uniform(0, np.pi)) if source == "radar" else np.zeros(n)
+            rxs, rys = np.full(n, rx), np.full(n, ry)
+            cov = aou_cov(rxs, rys, phi)
+            noise = np.einsum("nij,nj->ni", np.linalg.cholesky(cov), rng.normal(size=(n, 2)))
+            xy = pos0[i] + vel[i] * t[:, None] + noise
+            ids = np.full(n, f"{source}-{i}", dtype=object)
+            if source == "radar":  # the radar tracker drops the track and starts a new one
+                cut = rng.integers(n // 4, 3 * n // 4)
+                ids[cut:] = f"{source}-{i}b"
+                keep = np.ones(n, bool)
+                keep[cut : cut + 15] = False  # five minutes unseen
+                t, xy, rxs, rys, phi, ids = (
+                    t[keep],
+                    xy[keep],
+                    rxs[keep],
+                    rys[keep],
+                    phi[keep],
+                    ids[keep],
+                )
+            frames.append(
+                pd.DataFrame(
+                    {
+                        "track_id": ids,
+                        "source": source,
+                        "time": t,
+                        "x": xy[:, 0],
+                        "y": xy[:, 1],
+                        "rx": rxs,
+                        "ry": rys,
+                        "phi": phi,
+                    }
+                )
+            )
+    df = pd.concat(frames, ignore_index=True)
+    return df.sample(frac=1.0, random_state=seed).reset_index(drop=True)  # any row order
+
+
+def geographic(df: pd.DataFrame, lat0: float = 51.0, lon0: float = 179.8) -> pd.DataFrame:
+    """The planar picture across the antimeridian in lat/lon (a local equirectangular map)."""
+    lat = lat0 + df["y"] / 111_320.0
+    lon = lon0 + df["x"] / (111_320.0 * np.cos(np.radians(lat0)))
+    lon = (lon + 180.0) % 360.0 - 180.0
+    return pd.DataFrame(
+        {
+            "track_id": df["track_id"],
+            "source": df["source"],
+            "time": df["time"],
+            "lat": lat,
+            "lon": lon,
+            "rx": df["rx"],
+            "ry": df["ry"],
+            "bearing": np.degrees(df["phi"]),
+        }
+    )
+
+
+def assert_same(got, want) -> None:
+    """Exactly the single-machine result: pairs, bit-identical scores, classes, objects."""
+    assert len(want.pairs) > 0
+    assert (want.pairs["class"] == "match").any() and (want.pairs["class"] != "match").any()
+    pd.testing.assert_frame_equal(got.pairs, want.pairs, check_exact=True)
+    np.testing.assert_array_equal(got.pairs["score"].to_numpy(), want.pairs["score"].to_numpy())
+    pd.testing.assert_frame_equal(got.objects, want.objects, check_exact=True)
+    assert got.candidates == want.candidates
+
+
+@pytest.fixture(scope="module")
+def client():
+    with (
+        distributed.LocalCluster(
+            n_workers=2,
+            processes=True,
+            threads_per_worker=1,
+            host="127.0.0.1",
+            dashboard_address=None,
+        ) as cluster,
+        distributed.Client(cluster) as c,
+    ):
+        yield c
+
+
+@pytest.fixture(scope="module")
+def planar():
+    return picture()
+
+
+# --------------------------------------------------------------------------- on the cluster
+
+
+@pytest.mark.parametrize("tile", [(4000.0, 1800.0), (8000.0, 1e9), None])
+def test_cluster_result_equals_single_machine(client, planar, tile):
+    want = geofeas.associate(planar)
+    got = gd.associate(dd.from_pandas(planar, npartitions=4), tile=tile)
+    assert_same(got, want)
+    if tile is not None:
+        assert got.tiles > 10  # the picture really was cut, and tracks cross tile edges
+        assert len(got.tracks) == planar["track_id"].nunique()
+
+
+def test_cluster_geographic_across_the_antimeridian_with_extrapolation(client, planar):
+    geo = geographic(planar)
+    assert (geo["lon"] > 179).any() and (geo["lon"] < -179).any()
+    options = dict(horizon=120.0, max_gap=240.0)
+    want = geofeas.associate(geo, **options)
+    got = gd.associate(geo, tile=(6000.0, 1800.0), npartitions=3, **options)
+    assert got.tiles > 10
+    assert_same(got, want)
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        dict(score="overlap", combine="geometric"),
+        dict(score="glr_threshold", combine="harmonic", lower=0.2, upper=0.4),
+        dict(same_source=True, combine="pvalue", correlation_time=0.0),
+    ],
+)
+def test_cluster_other_scores_and_options(client, planar, options):
+    want = geofeas.associate(planar, **options)
+    got = gd.associate(planar, tile=(6000.0, 1e9), npartitions=3, **options)
+    assert_same(got, want)
+    assert got.options == want.options
+
+
+class KillOnce(WorkerPlugin):
+    """Kills the worker process the first time any worker starts a task named ``prefix``."""
+
+    name = "kill-once"
+
+    def __init__(self, marker: str, prefix: str) -> None:
+        self.marker, self.prefix = marker, prefix
+
+    def transition(self, key, start, finish, **kwargs):
+        if finish == "executing" and self.prefix in str(key):
+            try:
+                os.remove(self.marker)  # one kill in the whole cluster: the first to claim it
+            except FileNotFoundError:
+                return
+            os._exit(1)
+
+
+@pytest.mark.parametrize("stage", ["_partition_partials", "shuffle-transfer", "_score_tiles"])
+def test_a_worker_killed_mid_run_changes_nothing(planar, tmp_path, stage):
+    want = geofeas.associate(planar)
+    marker = tmp_path / "kill"
+    marker.touch()
+    with (
+        distributed.LocalCluster(
+            n_workers=2,
+            processes=True,
+            threads_per_worker=1,
+            host="127.0.0.1",
+            dashboard_address=None,
+        ) as cluster,
+        distributed.Client(cluster) as c,
+    ):
+        c.register_plugin(KillOnce(str(marker), stage))
+        before = set(c.run(os.getpid).values())
+        got = gd.associate(planar, tile=(6000.0, 1e9), npartitions=4)
+        assert not marker.exists()  # a worker process really was killed while working
+        c.wait_for_workers(2)
+        after = set(c.run(os.getpid).values())
+    assert before - after  # the killed process is gone; the nanny started a new one
+    assert_same(got, want)
+
+
+# --------------------------------------------------------------------------- inputs, errors
+
+
+def test_local_scheduler_and_every_input_kind(planar, tmp_path):
+    want = geofeas.associate(planar)
+    assert_same(gd.associate(planar, tile=(6000.0, 1e9)), want)
+    path = tmp_path / "reports"
+    dd.from_pandas(planar, npartitions=3).to_parquet(str(path))
+    assert_same(gd.associate(str(path), tile=(6000.0, 1e9)), want)
+    pa = pytest.importorskip("pyarrow")
+    assert_same(gd.associate(pa.Table.from_pandas(planar), tile=(6000.0, 1e9)), want)
+    csv = tmp_path / "reports.csv"
+    planar.to_csv(csv, index=False)
+    assert_same(gd.associate(str(csv), tile=(6000.0, 1e9)), geofeas.associate(str(csv)))
+
+
+def test_iso_times_and_numeric_ids(planar):
+    iso = planar.assign(
+        time=pd.to_datetime(planar["time"] + 1.7e9, unit="s", utc=True).dt.strftime(
+            "%Y-%m-%dT%H:%M:%S.%fZ"
+        ),
+        track_id=pd.factorize(planar["track_id"])[0] * 7 + 3,
+    )
+    want = geofeas.associate(iso)
+    assert_same(gd.associate(iso, tile=(6000.0, 1e9), npartitions=3), want)
+
+
+def test_the_assignment_of_the_result_is_the_single_machine_one(planar):
+    want = geofeas.associate(planar)
+    got = gd.associate(planar, tile=(6000.0, 1e9), npartitions=3)
+    pd.testing.assert_frame_equal(got.assignment("ais", "radar"), want.assignment("ais", "radar"))
+
+
+def test_halo_boxes_hold_every_report_aou(planar):
+    boxes = gd.track_boxes(planar).set_index("track_id")
+    own = boxes.loc[planar["track_id"]]
+    r = np.maximum(planar["rx"], planar["ry"]).to_numpy()
+    for k, col in enumerate(["x", "y", "time"]):
+        v = planar[col].to_numpy()
+        pad = r if col != "time" else 0.0
+        assert np.all(own[f"lo{k}"].to_numpy() <= v - pad)
+        assert np.all(v + pad <= own[f"hi{k}"].to_numpy())
+
+
+def test_errors_name_the_row_of_the_whole_table(planar):
+    bad = planar.copy()
+    bad.loc[1234, "ry"] = -1.0
+    with pytest.raises(GeofeasError, match=r"row 1234: column ry"):
+        gd.associate(bad, npartitions=4)
+    bad = planar.copy()
+    bad.loc[777, "x"] = np.nan
+    with pytest.raises(GeofeasError, match=r"row 777: column x"):
+        gd.associate(bad, npartitions=4)
+    dup = pd.concat([planar, planar.iloc[[10]]], ignore_index=True)
+    with pytest.raises(GeofeasError, match=rf"row {len(planar)}: track .* already has a report"):
+        gd.associate(dup, npartitions=4)
+    with pytest.raises(GeofeasError, match="missing column"):
+        gd.associate(planar.drop(columns="source"))
+    with pytest.raises(GeofeasError, match="upper"):
+        gd.associate(planar, upper=0.1)
+    with pytest.raises(GeofeasError, match="too small"):
+        gd.associate(planar, tile=(50.0, 60.0))
+    with pytest.raises(GeofeasError, match="halo"):
+        gd.associate(planar, halo=-1.0)
+
+
+def test_missing_dask_gives_an_install_hint(monkeypatch):
+    import importlib
+    import sys
+
+    for name in [m for m in sys.modules if m == "dask" or m.startswith("dask.")]:
+        monkeypatch.setitem(sys.modules, name, None)
+    monkeypatch.delitem(sys.modules, "geofeas.dask")
+    with pytest.raises(ImportError, match=r"geofeas\[dask\]"):
+        importlib.import_module("geofeas.dask")
+    monkeypatch.undo()
+    importlib.import_module("geofeas.dask")
