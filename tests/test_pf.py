@@ -234,3 +234,13 @@ def test_cli_writes_the_contract_files(tmp_path):
         (m, s, f) for m in ("1", "2") for s in (2.0, 6.0, 15.0) for f in ("1", "2", "3", "4")
     }
     assert (out / "comparison.md").read_text().count("|") > 50
+
+
+def test_resampling_threshold():
+    # never resampling degenerates the weights; the default resamples every frame
+    never = pf_simulate_run(snr_db=15.0, particles=500, resample_threshold=0.0, seed=1)
+    always = pf_simulate_run(snr_db=15.0, particles=500, seed=1)
+    assert never["ess"][-10:].max() < 5.0
+    assert always["ess"][-10:].min() > 20.0
+    half = pf_simulate_run(snr_db=15.0, particles=500, resample_threshold=0.5, seed=1)
+    assert np.isfinite(half["estimates"]).all()

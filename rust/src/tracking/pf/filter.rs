@@ -1,5 +1,5 @@
 //! One bootstrap particle filter of the bank (seed 003: "four separate PFs rather than a
-//! concatenated filter", section I; the predict / weight / resample cycle of its reference [1]).
+//! concatenated filter", section I; the predict / weight / resample cycle of its reference 1, Gordon, Salmond and Smith).
 //!
 //! A filter holds its particles, their normalised weights and its own random stream. Its
 //! estimate is the weighted mean and covariance of the posterior cloud (before resampling); the

@@ -15,7 +15,7 @@
 //! - [`bank`]: the bank of filters, frame by frame.
 //! - [`run`]: one seeded run (truth, frames, banks).
 //! - [`metrics`]: errors, probability of correct association, 2-sigma coverage, held tracks.
-//! - [`study`]: the Monte-Carlo reproduction of Figs. 7-20.
+//! - [`study`](mod@study): the Monte-Carlo reproduction of Figs. 7-20.
 //!
 //! A filter's position covariance is a geofeas [`crate::Ellipse`]
 //! ([`filter::Estimate::ellipse`]), so its estimates can be scored with the geofeasibility scores.

@@ -1,5 +1,5 @@
 //! Resampling schemes of the particle filter (seed 003 uses the standard re-sampling step of
-//! Gordon, Salmond and Smith, its reference [1]; the schemes are those of Douc and Cappe's
+//! Gordon, Salmond and Smith, its reference 1; the schemes are those of Douc and Cappe's
 //! comparison).
 //!
 //! Each draws `N` ancestor indices from normalised weights `w` in O(N), in increasing order:
