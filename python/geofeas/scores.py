@@ -85,6 +85,12 @@ def _options(score: str, options: dict[str, Any]) -> dict[str, Any]:
             f"it takes {sorted(_OPTIONS[score])}"
         )
     out: dict[str, Any] = {}
+    if score == "overlap":
+        options = {k: v for k, v in options.items() if not (k == "vertices" and v is None)}
+        if "vertices" in options and options.get("method", "exact") != "polygon":
+            raise GeofeasError(
+                "vertices applies only to method='polygon' (the exact method has no resolution)"
+            )
     if "threshold" in options:
         out["threshold"] = bool(options["threshold"])
     if "vertices" in options:
@@ -141,7 +147,7 @@ def overlap(
     /,
     *,
     method: str = "exact",
-    vertices: int = DEFAULT_VERTICES,
+    vertices: int | None = None,
 ) -> Any:
     """Normalised overlap area ``area(A ∩ B) / area(smaller)`` (seed 000, eqs. 49-50).
 
@@ -156,8 +162,9 @@ def overlap(
     ----------
     a, b : array_like, shape (5,) or (n, 5)
     method : {"exact", "polygon"}
-    vertices : int
-        Polygon resolution (>= 8), used by ``method="polygon"``.
+    vertices : int, optional
+        Polygon resolution (>= 8) of ``method="polygon"`` (default :data:`DEFAULT_VERTICES`);
+        an error with the exact method.
 
     Returns
     -------

@@ -69,8 +69,20 @@ fn published_vectors_both_orders_and_far_away() {
 #[test]
 fn eeover_issue_1() {
     check_area(
-        lit(41.94107253, 39.78655647, 43.28271488, 22.83392139, 3.120439222),
-        lit(53.92619514, 45.62883047, 32.64211672, 27.84469155, 3.093992268),
+        lit(
+            41.94107253,
+            39.78655647,
+            43.28271488,
+            22.83392139,
+            3.120439222,
+        ),
+        lit(
+            53.92619514,
+            45.62883047,
+            32.64211672,
+            27.84469155,
+            3.093992268,
+        ),
         2227.3519086285505,
         1e-11,
     );
@@ -159,7 +171,13 @@ fn circle_lens_closed_form() {
 
 #[test]
 fn crossed_ellipses_closed_form() {
-    for &(a, b) in &[(3.0, 1.0), (2.0, 1.9), (10.0, 0.5), (1000.0, 1.0), (1.0, 0.999_999)] {
+    for &(a, b) in &[
+        (3.0, 1.0),
+        (2.0, 1.9),
+        (10.0, 0.5),
+        (1000.0, 1.0),
+        (1.0, 0.999_999),
+    ] {
         for phi in [0.0, 0.4, 1e-9, 2.5] {
             let e1 = Ellipse::new(5.0, -3.0, a, b, phi);
             let e2 = Ellipse::new(5.0, -3.0, a, b, phi + FRAC_PI_2);
@@ -175,14 +193,25 @@ fn tangent_circles() {
     let a = Ellipse::circle(0.0, 0.0, 1.0);
     assert!(overlap_exact(&a, &Ellipse::circle(2.0, 0.0, 1.0)) < 1e-20);
     assert!(overlap_exact(&a, &Ellipse::circle(0.0, -2.0, 1.0)) < 1e-20);
-    assert_eq!(overlap_exact(&a, &Ellipse::circle(2.0 + 1e-15, 0.0, 1.0)), 0.0);
+    assert_eq!(
+        overlap_exact(&a, &Ellipse::circle(2.0 + 1e-15, 0.0, 1.0)),
+        0.0
+    );
     assert_eq!(overlap_exact(&a, &Ellipse::circle(0.5, 0.0, 0.5)), 1.0);
     assert_eq!(overlap_exact(&Ellipse::circle(0.0, 0.5, 0.5), &a), 1.0);
 }
 
 /// Two circles under a common affine map (rotation `alpha`, stretch `s1, s2`): a pair of
 /// ellipses whose intersection area is the circles' lens times `s1 s2`.
-fn affine_pair(r1: f64, r2: f64, d: f64, dir: f64, alpha: f64, s1: f64, s2: f64) -> (Ellipse, Ellipse, f64) {
+fn affine_pair(
+    r1: f64,
+    r2: f64,
+    d: f64,
+    dir: f64,
+    alpha: f64,
+    s1: f64,
+    s2: f64,
+) -> (Ellipse, Ellipse, f64) {
     let (sa, ca) = alpha.sin_cos();
     let map = |x: f64, y: f64| (ca * s1 * x - sa * s2 * y, sa * s1 * x + ca * s2 * y);
     let (cx, cy) = map(d * dir.cos(), d * dir.sin());
@@ -220,7 +249,10 @@ fn tiny_lens_keeps_relative_accuracy() {
         let b = Ellipse::circle(2.0 - p, 0.0, 1.0);
         let truth = lens(1.0, 1.0, 2.0 - p);
         let area = intersection_area(&a, &b);
-        assert!(((area - truth) / truth).abs() < 1e-4, "{area:e} vs {truth:e}");
+        assert!(
+            ((area - truth) / truth).abs() < 1e-4,
+            "{area:e} vs {truth:e}"
+        );
     }
 }
 
@@ -228,7 +260,12 @@ fn tiny_lens_keeps_relative_accuracy() {
 fn near_identical_ellipses() {
     // A shifted by a tiny v: 1 - g = |v| w(v_perp) / (pi a b) + O(|v|^2), w the width of A
     // across the shift.
-    for &(rx, ry, phi) in &[(3.0, 2.0, 0.0), (3.0, 1.0, 0.4), (1.0, 1.0, 0.0), (50.0, 0.1, 1.0)] {
+    for &(rx, ry, phi) in &[
+        (3.0, 2.0, 0.0),
+        (3.0, 1.0, 0.4),
+        (1.0, 1.0, 0.0),
+        (50.0, 0.1, 1.0),
+    ] {
         for dir in [0.0f64, 0.5, 1.3, 2.9] {
             for step in [1e-9, 1e-12, 1e-7] {
                 let a = Ellipse::new(10.0, -7.0, rx, ry, phi);
@@ -240,7 +277,10 @@ fn near_identical_ellipses() {
                 let w = 2.0 * ((rx * n1).powi(2) + (ry * n2).powi(2)).sqrt();
                 let truth = 1.0 - step * w / (PI * rx * ry);
                 let g = overlap_exact(&a, &b);
-                assert!((g - truth).abs() < 1e-13 + step * step, "{rx} {ry} {dir} {step}: {g} vs {truth}");
+                assert!(
+                    (g - truth).abs() < 1e-13 + step * step,
+                    "{rx} {ry} {dir} {step}: {g} vs {truth}"
+                );
             }
         }
     }
@@ -255,7 +295,10 @@ fn identical_in_every_description() {
     let turned = Ellipse::new(1e5, -3e5, 2.0, 1.0, 0.7 + PI);
     assert!((overlap_exact(&e, &turned) - 1.0).abs() < 1e-14);
     let c = Ellipse::circle(0.0, 0.0, 3.0);
-    assert_eq!(overlap_exact(&c, &Ellipse::new(0.0, 0.0, 3.0, 3.0, 1.234)), 1.0);
+    assert_eq!(
+        overlap_exact(&c, &Ellipse::new(0.0, 0.0, 3.0, 3.0, 1.234)),
+        1.0
+    );
 }
 
 #[test]
@@ -377,26 +420,40 @@ fn fuzz_millions() {
             0 | 1 => random_ellipse(&mut rng),
             2 => {
                 let eps = 10f64.powf(rng.random_range(-16.0..-4.0));
-                Ellipse::new(a.x0 + eps, a.y0 - eps, a.rx * (1.0 + eps), a.ry, a.phi + eps)
+                Ellipse::new(
+                    a.x0 + eps,
+                    a.y0 - eps,
+                    a.rx * (1.0 + eps),
+                    a.ry,
+                    a.phi + eps,
+                )
             }
             _ => {
                 // b tangent to a from outside or inside, then nudged
                 let t: f64 = rng.random_range(0.0..std::f64::consts::TAU);
                 let p = a.point_at(t);
                 let r = rng.random_range(0.01..3.0);
-                let eps = 10f64.powf(rng.random_range(-16.0..-4.0)) * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+                let eps = 10f64.powf(rng.random_range(-16.0..-4.0))
+                    * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
                 // outward normal of a at t
                 let ([e1x, e1y], [e2x, e2y]) = a.axes();
                 let (st, ct) = t.sin_cos();
                 let nx = ct / a.rx * e1x + st / a.ry * e2x;
                 let ny = ct / a.rx * e1y + st / a.ry * e2y;
                 let nn = nx.hypot(ny);
-                let side = if rng.random_bool(0.5) { r + eps } else { -(r + eps) };
+                let side = if rng.random_bool(0.5) {
+                    r + eps
+                } else {
+                    -(r + eps)
+                };
                 Ellipse::circle(p[0] + nx / nn * side, p[1] + ny / nn * side, r)
             }
         };
         let g = overlap_exact(&a, &b);
-        assert!((0.0..=1.0).contains(&g), "case {i}: g = {g} for {a:?} {b:?}");
+        assert!(
+            (0.0..=1.0).contains(&g),
+            "case {i}: g = {g} for {a:?} {b:?}"
+        );
         assert_eq!(g.to_bits(), overlap_exact(&b, &a).to_bits(), "case {i}");
     }
 }

@@ -308,10 +308,7 @@ pub fn monte_carlo_sobol<R: rand::Rng>(
         let (x, y) = sobol2(i as u32);
         let (x, y) = (owen(x, sx), owen(y, sy));
         // the centre of the 2^-32 cell, so no coordinate is exactly 0 or 1
-        let (u, v) = concentric(
-            (f64::from(x) + 0.5) * scale,
-            (f64::from(y) + 0.5) * scale,
-        );
+        let (u, v) = concentric((f64::from(x) + 0.5) * scale, (f64::from(y) + 0.5) * scale);
         let p = w[0] + c1[0] * u + c2[0] * v;
         let q = w[1] + c1[1] * u + c2[1] * v;
         inside += usize::from(p * p + q * q <= 1.0);
@@ -403,7 +400,11 @@ mod tests {
         let a = Ellipse::new(5.0, 5.0, 3.0, 1.0, 0.5);
         let far = Ellipse::circle(100.0, 0.0, 1.0);
         for sampler in [Sampler::Uniform, Sampler::Sobol] {
-            let mc = MonteCarlo { sampler, samples: 64, seed: 3 };
+            let mc = MonteCarlo {
+                sampler,
+                samples: 64,
+                seed: 3,
+            };
             assert_eq!(mc.score_one(&a, &a), 1.0);
             assert_eq!(mc.score_one(&a, &far), 0.0);
         }
