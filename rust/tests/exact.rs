@@ -457,3 +457,21 @@ fn fuzz_millions() {
         assert_eq!(g.to_bits(), overlap_exact(&b, &a).to_bits(), "case {i}");
     }
 }
+
+#[test]
+fn extreme_magnitudes_give_a_score_in_range() {
+    let vals = [1e-300, 1e-150, 1e-20, 1e-5, 1.0, 1e5, 1e20, 1e150, 1e300];
+    for &ra in &vals {
+        for &rb in &vals {
+            for &d in &[0.0, 1e-300, 1.0, 1e150, 1e300] {
+                for &k in &[1.0, 1e-8] {
+                    let a = Ellipse::new(0.0, 0.0, ra, ra * k, 0.3);
+                    let b = Ellipse::new(d, -d, rb, rb, 1.1);
+                    let g = overlap_exact(&a, &b);
+                    assert!((0.0..=1.0).contains(&g), "{a:?} {b:?}: {g}");
+                    assert_eq!(g.to_bits(), overlap_exact(&b, &a).to_bits());
+                }
+            }
+        }
+    }
+}
