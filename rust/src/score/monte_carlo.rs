@@ -262,13 +262,10 @@ pub fn sobol2(i: u32) -> (u32, u32) {
     let x = reverse(i);
     let mut y = 0u32;
     let mut bits = i;
-    let mut k = 0;
     while bits != 0 {
-        if bits & 1 == 1 {
-            y ^= SOBOL_DIM1[k];
-        }
-        bits >>= 1;
-        k += 1;
+        let k = bits.trailing_zeros() as usize;
+        y ^= SOBOL_DIM1[k];
+        bits &= bits - 1;
     }
     (x, y)
 }
@@ -287,7 +284,7 @@ pub fn concentric(x: f64, y: f64) -> (f64, f64) {
     } else {
         (b, 2.0 * quarter - quarter * (a / b))
     };
-    let (s, c) = theta.sin_cos();
+    let (s, c) = crate::fastmath::sin_cos(theta);
     (r * c, r * s)
 }
 
