@@ -4,6 +4,9 @@
 //! `cargo test -p geofeas --release --test exact -- --ignored` runs the long fuzz (4 million
 //! random and near-degenerate pairs).
 
+// the reference areas are quoted with all the digits their sources publish
+#![allow(clippy::excessive_precision)]
+
 use geofeas::score::exact::{intersection_area, overlap_exact, unit_segment};
 use geofeas::score::{PairScore, Polygon};
 use geofeas::Ellipse;
@@ -303,7 +306,7 @@ fn identical_in_every_description() {
 
 #[test]
 fn segment_series() {
-    for d in [0.2f64, 0.5, 0.999, 1.0, 3.0, 6.28] {
+    for d in [0.2f64, 0.5, 0.999, 1.0, 3.0, 6.2] {
         let direct = 0.5 * (d - d.sin());
         let tol = 8.0 * f64::EPSILON * d / (d * d).min(1.0);
         assert!((unit_segment(d) - direct).abs() <= tol, "{d}");

@@ -564,6 +564,7 @@ impl PairScore for IntersectionArea {
 }
 
 #[cfg(test)]
+#[allow(clippy::excessive_precision)]
 mod tests {
     use super::*;
     use std::f64::consts::FRAC_PI_2;
