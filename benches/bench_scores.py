@@ -116,23 +116,52 @@ def main() -> None:
     pa, pb = ref.random_pairs(k, rng)
     sa, sb = shapely_polygons(pa, 64), shapely_polygons(pb, 64)
     t_sh = best(lambda: shapely.area(shapely.intersection(sa, sb)), 3)
-    t_gf = best(lambda: geofeas.overlap(pa, pb, vertices=64), 5)
+    t_gf = best(lambda: geofeas.overlap(pa, pb, method="polygon", vertices=64), 5)
     rows.append((f"overlap, 64 vertices, {k:,} pairs", "shapely 2 vectorised", k, t_sh, t_gf))
-    t_gf = best(lambda: geofeas.overlap(pa, pb), 5)
+    t_poly = best(lambda: geofeas.overlap(pa, pb, method="polygon"), 5)
     rows.append(
         (
-            f"overlap, {geofeas.DEFAULT_VERTICES} vertices (default), {k:,} pairs",
+            f"overlap, polygon {geofeas.DEFAULT_VERTICES} vertices, {k:,} pairs",
             "shapely 2 at 64 vertices",
             k,
             t_sh,
-            t_gf,
+            t_poly,
         )
+    )
+    t_ex = best(lambda: geofeas.overlap(pa, pb), 5)
+    rows.append(
+        (f"overlap, exact (default), {k:,} pairs", "shapely 2 at 64 vertices", k, t_sh, t_ex)
+    )
+    rows.append(
+        (
+            f"overlap, exact (default), {k:,} pairs",
+            f"geofeas polygon {geofeas.DEFAULT_VERTICES} vertices",
+            k,
+            t_poly,
+            t_ex,
+        )
+    )
+    kq = 20
+    t_ref = best(lambda: ref.overlap_quad(pa[:kq], pb[:kq]), 1) * (k / kq)
+    rows.append(
+        (f"overlap, exact (default), {k:,} pairs", "NumPy/SciPy quadrature reference", k, t_ref, t_ex)
+    )
+    k = 1_000_000 if not q else 200_000
+    xa, xb = ref.random_pairs(k, rng)
+    t_ex = best(lambda: geofeas.overlap(xa, xb), 3)
+    t_glr = best(lambda: geofeas.glr(xa, xb), 3)
+    rows.append(
+        (f"overlap, exact (default), {k:,} pairs", "geofeas glr (same pairs)", k, t_glr, t_ex)
     )
 
     k = 50_000 if q else 200_000
     ma, mb = ref.random_pairs(k, rng)
     t_gf = best(lambda: geofeas.monte_carlo(ma, mb, samples=500, seed=1), 3)
     rows.append((f"monte_carlo N=500, {k:,} pairs", "paper Fig. 3 (1 ms/pair)", k, k * 1e-3, t_gf))
+    t_sob = best(lambda: geofeas.monte_carlo(ma, mb, samples=64, seed=1, sampler="sobol"), 3)
+    rows.append(
+        (f"monte_carlo sobol N=64, {k:,} pairs", "geofeas importance N=500", k, t_gf, t_sob)
+    )
 
     print(f"threads: {os.cpu_count()} cpus; numpy {np.__version__}; shapely {shapely.__version__}")
     print()

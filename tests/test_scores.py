@@ -29,7 +29,7 @@ def test_glr_matches_reference(pairs):
 
 def test_overlap_matches_reference_within_1e_4(pairs, true_overlap):
     a, b = pairs
-    g = geofeas.overlap(a, b)
+    g = geofeas.overlap(a, b, method="polygon")
     err = np.abs(g - true_overlap)
     assert err.max() <= 1e-4, err.max()
     # and within the documented bound for its area ratio, pair by pair
@@ -44,7 +44,7 @@ def test_overlap_matches_reference_within_1e_4(pairs, true_overlap):
 def test_polygon_error_bound_holds(pairs, true_overlap, vertices):
     a, b = pairs
     a, b, truth = a[:2000], b[:2000], true_overlap[:2000]
-    g = geofeas.overlap(a, b, vertices=vertices)
+    g = geofeas.overlap(a, b, method="polygon", vertices=vertices)
     area_a, area_b = a[:, 2] * a[:, 3], b[:, 2] * b[:, 3]
     ratio = np.maximum(area_a, area_b) / np.minimum(area_a, area_b)
     bound = 8 * np.pi**2 / (3 * vertices**3) * (1 + ratio)
@@ -123,8 +123,9 @@ def test_circle_lens_closed_form(d, r2):
     a = np.array([0.0, 0.0, 1.5, 1.5, 0.0])
     b = np.array([d, 0.0, r2, r2, 0.7])
     truth = ref.circle_lens_area(1.5, r2, d) / (np.pi * r2 * r2)
-    assert abs(geofeas.overlap(a, b) - truth) <= 1e-5
-    assert abs(geofeas.overlap(a, b, vertices=4096) - truth) <= 1e-8
+    assert abs(geofeas.overlap(a, b, method="polygon") - truth) <= 1e-5
+    assert abs(geofeas.overlap(a, b) - truth) <= 1e-14
+    assert abs(geofeas.overlap(a, b, method="polygon", vertices=4096) - truth) <= 1e-8
 
 
 @pytest.mark.parametrize("ab", [(3.0, 1.0), (2.0, 1.9), (10.0, 0.5)])
@@ -133,8 +134,9 @@ def test_crossed_ellipses_closed_form(ab):
     e1 = np.array([5.0, -3.0, a, b, 0.4])
     e2 = np.array([5.0, -3.0, a, b, 0.4 + np.pi / 2])
     truth = 4 * a * b * np.arctan(b / a) / (np.pi * a * b)
-    assert abs(geofeas.overlap(e1, e2, vertices=4096) - truth) <= 1e-7
-    assert abs(geofeas.overlap(e1, e2) - truth) <= 2e-4
+    assert abs(geofeas.overlap(e1, e2, method="polygon", vertices=4096) - truth) <= 1e-7
+    assert abs(geofeas.overlap(e1, e2, method="polygon") - truth) <= 2e-4
+    assert abs(geofeas.overlap(e1, e2) - truth) <= 1e-13
 
 
 def test_edge_cases_exact_values():
@@ -159,7 +161,8 @@ def test_tangent_circles():
     outside = np.array([2.0, 0.0, 1.0, 1.0, 0.0])
     # touching is not disjoint: the polygon answer is within its documented bound of 0
     bound = 8 * np.pi**2 / (3 * geofeas.DEFAULT_VERTICES**3) * 2
-    assert 0.0 <= geofeas.overlap(a, outside) <= bound
+    assert 0.0 <= geofeas.overlap(a, outside, method="polygon") <= bound
+    assert 0.0 <= geofeas.overlap(a, outside) <= 1e-20
     assert geofeas.overlap(a, outside + [1e-9, 0, 0, 0, 0]) == 0.0
     inside = np.array([0.5, 0.0, 0.5, 0.5, 0.0])  # internally tangent
     assert geofeas.overlap(a, inside) == 1.0
@@ -170,7 +173,7 @@ def test_aspect_ratio_1000():
     needle = np.array([0.0, 0.0, 1000.0, 1.0, 0.0])  # along north
     crossing = np.array([0.0, 0.0, 1000.0, 1.0, np.pi / 2])
     truth = 4 * 1000.0 * np.arctan(1 / 1000.0) / (np.pi * 1000.0)
-    g = geofeas.overlap(needle, crossing, vertices=8192)
+    g = geofeas.overlap(needle, crossing, method="polygon", vertices=8192)
     assert abs(g - truth) <= 1e-4
     assert 0 < geofeas.glr(needle, crossing) <= 1
     off = np.array([5.0, 0.0, 1000.0, 1.0, 0.0])  # parallel needle 5 m east: disjoint

@@ -5,7 +5,8 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use geofeas::score::{score_cdist, score_pairs, Glr, MonteCarlo, Polygon};
+use geofeas::score::monte_carlo::Sampler;
+use geofeas::score::{score_cdist, score_pairs, Exact, GaussianScore, Glr, MonteCarlo, Polygon};
 use geofeas::Ellipse;
 use rand::{RngExt, SeedableRng};
 
@@ -57,6 +58,35 @@ fn bench_pairs(c: &mut Criterion) {
             },
         );
     }
+    group.bench_function("exact", |bench| {
+        bench.iter(|| score_pairs(&Exact, &a, &b, black_box(&mut out), &mut || false))
+    });
+    group.bench_function("bhattacharyya", |bench| {
+        bench.iter(|| {
+            score_pairs(
+                &GaussianScore::Bhattacharyya,
+                &a,
+                &b,
+                black_box(&mut out),
+                &mut || false,
+            )
+        })
+    });
+    group.bench_function("monte_carlo_sobol_64", |bench| {
+        bench.iter(|| {
+            score_pairs(
+                &MonteCarlo {
+                    samples: 64,
+                    seed: 0,
+                    sampler: Sampler::Sobol,
+                },
+                &a,
+                &b,
+                black_box(&mut out),
+                &mut || false,
+            )
+        })
+    });
     group.bench_function("monte_carlo_500", |bench| {
         bench.iter(|| {
             score_pairs(
@@ -78,6 +108,9 @@ fn bench_cdist(c: &mut Criterion) {
     group.throughput(Throughput::Elements(out.len() as u64));
     group.bench_function("glr_1000x1000", |bench| {
         bench.iter(|| score_cdist(&Glr::default(), &a, &b, black_box(&mut out), &mut || false))
+    });
+    group.bench_function("exact_1000x1000", |bench| {
+        bench.iter(|| score_cdist(&Exact, &a, &b, black_box(&mut out), &mut || false))
     });
     group.finish();
 }

@@ -18,11 +18,31 @@ from typing import Any
 import numpy as np
 
 from ._core import GeofeasError
-from .scores import DEFAULT_VERTICES, glr, monte_carlo, overlap
+from .scores import (
+    DEFAULT_VERTICES,
+    SAMPLERS,
+    bhattacharyya,
+    gaussian_product,
+    glr,
+    hellinger,
+    monte_carlo,
+    overlap,
+)
 
 FIELDS = ("x0", "y0", "rx", "ry", "phi")
 COLUMNS = tuple(f"{side}_{f}" for side in "ab" for f in FIELDS)
-SCORES = ("glr", "glr_threshold", "overlap", "monte_carlo")
+SCORES = (
+    "glr",
+    "glr_threshold",
+    "overlap",
+    "overlap_polygon",
+    "monte_carlo",
+    "bhattacharyya",
+    "hellinger",
+    "gaussian_product",
+)
+#: What ``--score`` computes when it is not given.
+DEFAULT_SCORES = ("glr", "glr_threshold", "overlap", "monte_carlo")
 
 
 def example_path() -> Path:
@@ -71,7 +91,13 @@ def read_pairs(path: Path) -> tuple[list[str], list[list[str]], np.ndarray]:
 
 
 def score_all(
-    data: np.ndarray, scores: list[str], vertices: int, samples: int, seed: int | None
+    data: np.ndarray,
+    scores: list[str],
+    vertices: int,
+    samples: int,
+    seed: int | None,
+    method: str = "exact",
+    sampler: str = "importance",
 ) -> dict[str, np.ndarray]:
     a, b = data[:, :5], data[:, 5:]
     out: dict[str, np.ndarray] = {}
@@ -81,18 +107,30 @@ def score_all(
         elif name == "glr_threshold":
             out[name] = glr(a, b, threshold=True)
         elif name == "overlap":
-            out[name] = overlap(a, b, vertices=vertices)
+            out[name] = overlap(
+                a, b, method=method, vertices=vertices if method == "polygon" else None
+            )
+        elif name == "overlap_polygon":
+            out[name] = overlap(a, b, method="polygon", vertices=vertices)
+        elif name == "monte_carlo":
+            out[name] = monte_carlo(a, b, samples=samples, seed=seed, sampler=sampler)
+        elif name == "bhattacharyya":
+            out[name] = bhattacharyya(a, b)
+        elif name == "hellinger":
+            out[name] = hellinger(a, b)
         else:
-            out[name] = monte_carlo(a, b, samples=samples, seed=seed)
+            out[name] = gaussian_product(a, b)
     return out
 
 
 def run(args: argparse.Namespace) -> int:
     src = example_path() if args.input == "example" else Path(args.input)
-    scores = args.score or list(SCORES)
+    scores = args.score or list(DEFAULT_SCORES)
     start = time.perf_counter()
     header, rows, data = read_pairs(src)
-    result = score_all(data, scores, args.vertices, args.samples, args.seed)
+    result = score_all(
+        data, scores, args.vertices, args.samples, args.seed, args.method, args.sampler
+    )
     elapsed = time.perf_counter() - start
     out_fh: Any = sys.stdout if args.out == "-" else open(args.out, "w", newline="")
     try:
@@ -125,9 +163,23 @@ def add_parser(sub: Any) -> None:
         "--score",
         action="append",
         choices=SCORES,
-        help="score to compute (repeatable; default all)",
+        help="score to compute (repeatable; default: " + ", ".join(DEFAULT_SCORES) + ")",
     )
-    p.add_argument("--vertices", type=int, default=DEFAULT_VERTICES, help="polygon resolution")
+    p.add_argument(
+        "--method",
+        choices=("exact", "polygon"),
+        default="exact",
+        help="method of the 'overlap' column (default exact)",
+    )
+    p.add_argument(
+        "--vertices",
+        type=int,
+        default=DEFAULT_VERTICES,
+        help="polygon resolution (overlap_polygon, --method polygon)",
+    )
+    p.add_argument(
+        "--sampler", choices=SAMPLERS, default="importance", help="Monte-Carlo sampler"
+    )
     p.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per pair")
     p.add_argument("--seed", type=int, default=0, help="Monte-Carlo seed")
     p.set_defaults(func=run)

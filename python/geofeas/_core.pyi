@@ -16,6 +16,7 @@ __all__ = [
     "association_score_pairs",
     "combine_instants",
     "from_gaussian",
+    "intersection_area",
     "mht_simulate_run",
     "mht_study",
     "mht_track",
@@ -44,10 +45,11 @@ def score_pairs(
     score: str,
     *,
     threshold: bool = False,
-    method: str = "polygon",
+    method: str = "exact",
     vertices: int = 256,
     samples: int = 500,
     seed: int = 0,
+    sampler: str = "importance",
 ) -> NDArray[np.float64]: ...
 def score_cdist(
     a: NDArray[np.float64],
@@ -56,11 +58,13 @@ def score_cdist(
     *,
     max_bytes: int,
     threshold: bool = False,
-    method: str = "polygon",
+    method: str = "exact",
     vertices: int = 256,
     samples: int = 500,
     seed: int = 0,
+    sampler: str = "importance",
 ) -> NDArray[np.float64]: ...
+def intersection_area(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]: ...
 def to_gaussian(
     e: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...

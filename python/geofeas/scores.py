@@ -23,23 +23,38 @@ from ._core import GeofeasError
 
 __all__ = [
     "DEFAULT_VERTICES",
+    "SAMPLERS",
+    "bhattacharyya",
     "cdist",
     "from_gaussian",
+    "gaussian_product",
     "glr",
+    "hellinger",
+    "intersection_area",
     "monte_carlo",
     "overlap",
     "to_gaussian",
 ]
 
-#: Default polygon resolution of :func:`overlap` (``|g - g_true| <= 1e-4`` on typical pairs).
+#: Default polygon resolution of ``overlap(..., method="polygon")`` (``|g - g_true| <= 1e-4`` on
+#: typical pairs).
 DEFAULT_VERTICES = 256
 
-ScoreName = Literal["glr", "overlap", "monte_carlo"]
+#: Samplers of :func:`monte_carlo`.
+SAMPLERS = ("importance", "uniform", "sobol")
+
+ScoreName = Literal[
+    "glr", "overlap", "monte_carlo", "bhattacharyya", "hellinger", "gaussian_product"
+]
 _OPTIONS: dict[str, frozenset[str]] = {
     "glr": frozenset({"threshold"}),
     "overlap": frozenset({"vertices", "method"}),
-    "monte_carlo": frozenset({"samples", "seed"}),
+    "monte_carlo": frozenset({"samples", "seed", "sampler"}),
+    "bhattacharyya": frozenset(),
+    "hellinger": frozenset(),
+    "gaussian_product": frozenset(),
 }
+_METHODS = ("exact", "polygon")
 
 
 def _seed(seed: int | None) -> int:
@@ -70,12 +85,28 @@ def _options(score: str, options: dict[str, Any]) -> dict[str, Any]:
             f"it takes {sorted(_OPTIONS[score])}"
         )
     out: dict[str, Any] = {}
+    if score == "overlap":
+        options = {k: v for k, v in options.items() if not (k == "vertices" and v is None)}
+        if "vertices" in options and options.get("method", "exact") != "polygon":
+            raise GeofeasError(
+                "vertices applies only to method='polygon' (the exact method has no resolution)"
+            )
     if "threshold" in options:
         out["threshold"] = bool(options["threshold"])
     if "vertices" in options:
         out["vertices"] = _count(options["vertices"], "vertices", 8)
     if "method" in options:
+        if options["method"] not in _METHODS:
+            raise GeofeasError(
+                f"unknown overlap method {options['method']!r}; expected one of {list(_METHODS)}"
+            )
         out["method"] = str(options["method"])
+    if "sampler" in options:
+        if options["sampler"] not in SAMPLERS:
+            raise GeofeasError(
+                f"unknown sampler {options['sampler']!r}; expected one of {list(SAMPLERS)}"
+            )
+        out["sampler"] = str(options["sampler"])
     if "samples" in options:
         out["samples"] = _count(options["samples"], "samples", 1)
     if score == "monte_carlo":
@@ -111,21 +142,29 @@ def glr(a: ArrayLike, b: ArrayLike, /, *, threshold: bool = False) -> Any:
 
 
 def overlap(
-    a: ArrayLike, b: ArrayLike, /, *, vertices: int = DEFAULT_VERTICES, method: str = "polygon"
+    a: ArrayLike,
+    b: ArrayLike,
+    /,
+    *,
+    method: str = "exact",
+    vertices: int | None = None,
 ) -> Any:
     """Normalised overlap area ``area(A ∩ B) / area(smaller)`` (seed 000, eqs. 49-50).
 
-    Computed exactly on equal-area polygons of ``vertices`` vertices with parry's convex clipper;
-    the error is at most ``26 (1 + A_max / A_min) / vertices**3`` and far smaller on typical pairs.
-    Disjoint pairs give exactly 0, nested and identical pairs exactly 1.
+    ``method="exact"`` (the default) computes the intersection analytically: the polygon of the
+    boundary crossings plus one elliptic segment per boundary arc, the crossings isolated by
+    certified subdivision of the boundary function; accurate to about ``1e-13`` and independent
+    of the argument order. ``method="polygon"`` clips equal-area polygons of ``vertices``
+    vertices with parry (error at most ``26 (1 + A_max / A_min) / vertices**3``). Disjoint pairs
+    give exactly 0, nested and identical pairs exactly 1.
 
     Parameters
     ----------
     a, b : array_like, shape (5,) or (n, 5)
-    vertices : int
-        Polygon resolution (>= 8).
-    method : str
-        ``"polygon"``.
+    method : {"exact", "polygon"}
+    vertices : int, optional
+        Polygon resolution (>= 8) of ``method="polygon"`` (default :data:`DEFAULT_VERTICES`);
+        an error with the exact method.
 
     Returns
     -------
@@ -134,20 +173,90 @@ def overlap(
     return _pairs(a, b, "overlap", {"vertices": vertices, "method": method})
 
 
-def monte_carlo(
-    a: ArrayLike, b: ArrayLike, /, *, samples: int = 500, seed: int | None = None
-) -> Any:
-    """Importance-sampling estimate of the normalised overlap area (seed 000, eq. 55).
+def intersection_area(a: ArrayLike, b: ArrayLike, /) -> Any:
+    """Exact area of the intersection of two ellipses (the numerator of eq. 49).
 
-    Samples come from the Gaussian of the smaller ellipse with weights ``1/p``. Pair ``k`` of a
-    call draws from its own stream derived from ``(seed, k)``, so a seed gives bit-identical
-    results whatever the number of threads. ``seed=None`` draws a fresh random seed.
+    Parameters
+    ----------
+    a, b : array_like, shape (5,) or (n, 5)
+
+    Returns
+    -------
+    float or ndarray of shape (n,)
+        In the squared unit of the coordinates.
+    """
+    ea, single_a = as_ellipses(a, "a")
+    eb, single_b = as_ellipses(b, "b")
+    out = _core.intersection_area(ea, eb)
+    if single_a and single_b:
+        return float(out[0])
+    return out
+
+
+def monte_carlo(
+    a: ArrayLike,
+    b: ArrayLike,
+    /,
+    *,
+    samples: int = 500,
+    seed: int | None = None,
+    sampler: str = "importance",
+) -> Any:
+    """Monte-Carlo estimate of the normalised overlap area (seed 000, eq. 55).
+
+    ``sampler="importance"`` is eq. 55: samples from the Gaussian of the smaller ellipse with
+    weights ``1/p``. ``"uniform"`` draws the samples uniformly inside the smaller ellipse (the
+    fraction inside the other is ``g``). ``"sobol"`` uses the first ``samples`` points of an
+    Owen-scrambled Sobol sequence mapped uniformly into the smaller ellipse (randomised
+    quasi-Monte-Carlo, error falling like ``samples**-0.75``: 64 points are as accurate as eq. 55
+    with 500). Pair ``k`` of a call draws from its own stream derived from ``(seed, k)``, so a
+    seed gives bit-identical results whatever the number of threads. ``seed=None`` draws a fresh
+    random seed.
 
     Returns
     -------
     float or ndarray of shape (n,)
     """
-    return _pairs(a, b, "monte_carlo", {"samples": samples, "seed": seed})
+    return _pairs(
+        a, b, "monte_carlo", {"samples": samples, "seed": seed, "sampler": sampler}
+    )
+
+
+def bhattacharyya(a: ArrayLike, b: ArrayLike, /) -> Any:
+    """Bhattacharyya coefficient ``∫ sqrt(p1 p2)`` of the ellipses' Gaussians (eqs. 56-59).
+
+    ``sqrt(4 sqrt(det R1 det R2) / det(R1 + R2)) exp(-d^T (R1 + R2)^-1 d / 4)``, evaluated
+    without cancellation; 1 for identical ellipses.
+
+    Returns
+    -------
+    float or ndarray of shape (n,)
+    """
+    return _pairs(a, b, "bhattacharyya", {})
+
+
+def hellinger(a: ArrayLike, b: ArrayLike, /) -> Any:
+    """Hellinger distance ``sqrt(1 - BC)`` of the ellipses' Gaussians (0 for identical ones).
+
+    Returns
+    -------
+    float or ndarray of shape (n,)
+    """
+    return _pairs(a, b, "hellinger", {})
+
+
+def gaussian_product(a: ArrayLike, b: ArrayLike, /) -> Any:
+    """Normalised product of the two Gaussians, ``∫ p1 p2 / sqrt(∫ p1² ∫ p2²)``.
+
+    The red line of the paper's Fig. 6, in closed form:
+    ``sqrt(4 sqrt(det R1 det R2) / det(R1 + R2)) exp(-d^T (R1 + R2)^-1 d / 2)``, i.e. the GLR
+    (eq. 71) times a shape factor that is 1 for equal covariances.
+
+    Returns
+    -------
+    float or ndarray of shape (n,)
+    """
+    return _pairs(a, b, "gaussian_product", {})
 
 
 def _memory_limit() -> int:
@@ -173,11 +282,12 @@ def cdist(
     ----------
     a : array_like, shape (n, 5) or (5,)
     b : array_like, shape (m, 5) or (5,)
-    score : {"glr", "overlap", "monte_carlo"}
+    score : {"glr", "overlap", "monte_carlo", "bhattacharyya", "hellinger", "gaussian_product"}
     max_bytes : int, optional
         Refuse outputs larger than this (default: half the physical memory), before allocating.
     **options
-        The options of the chosen score (``threshold``; ``vertices``; ``samples``, ``seed``).
+        The options of the chosen score (``threshold``; ``method``, ``vertices``; ``samples``,
+        ``seed``, ``sampler``).
         Pair ``(i, j)`` of ``monte_carlo`` uses stream ``i * m + j``.
 
     Returns

@@ -8,6 +8,9 @@
 //! - [`score::Glr`]: the generalized likelihood ratio (eq. 71), optionally thresholded.
 //! - [`score::Polygon`]: the normalised overlap area (eqs. 49-50) on polygonised ellipses.
 //! - [`score::MonteCarlo`]: the importance-sampling estimator of eq. 55.
+//! - [`score::Exact`]: the exact normalised overlap (eqs. 49-50) from the boundary crossings,
+//!   and [`score::exact::intersection_area`].
+//! - [`score::GaussianScore`]: Bhattacharyya, Hellinger and the normalised Gaussian product.
 //! - [`score::score_pairs`] / [`score::score_cdist`]: the parallel batch drivers shared by all.
 //! - [`association`]: track-to-track association at scale: reports, time alignment, the
 //!   calibrated combination of per-instant scores, a space-time candidate index and grouping.

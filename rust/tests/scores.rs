@@ -38,7 +38,7 @@ proptest! {
         let thr = Glr { threshold: true };
         let poly = Polygon::new(64);
         for g in [glr.score_one(&a, &b), thr.score_one(&a, &b), poly.score_one(&a, &b),
-                  MonteCarlo { samples: 64, seed: 1 }.score_one(&a, &b)] {
+                  MonteCarlo { samples: 64, seed: 1, ..MonteCarlo::default() }.score_one(&a, &b)] {
             prop_assert!((0.0..=1.0).contains(&g), "g = {g}");
         }
         prop_assert_eq!(glr.score_one(&a, &b), glr.score_one(&b, &a));
@@ -155,6 +155,7 @@ fn monte_carlo_converges_to_lens() {
     let mc = MonteCarlo {
         samples: 1_000_000,
         seed: 3,
+        ..MonteCarlo::default()
     };
     // standard error ~ 0.5 / sqrt(1e6)
     assert!((mc.score_one(&a, &b) - truth).abs() < 3e-3);

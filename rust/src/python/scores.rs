@@ -27,19 +27,27 @@ fn ellipses<'a>(what: &'static str, arr: &'a PyReadonlyArray2<'_, f64>) -> PyRes
     Ok(Ellipse::from_flat(flat)?)
 }
 
-fn options(threshold: bool, method: String, vertices: usize, samples: usize, seed: u64) -> Options {
+fn options(
+    threshold: bool,
+    method: String,
+    vertices: usize,
+    samples: usize,
+    seed: u64,
+    sampler: String,
+) -> Options {
     Options {
         threshold,
         method,
         vertices,
         samples,
         seed,
+        sampler,
     }
 }
 
 /// Elementwise scores of `a[k]` and `b[k]` (a length-1 side broadcasts).
 #[pyfunction]
-#[pyo3(signature = (a, b, score, *, threshold=false, method="polygon", vertices=256, samples=500, seed=0))]
+#[pyo3(signature = (a, b, score, *, threshold=false, method="exact", vertices=256, samples=500, seed=0, sampler="importance"))]
 #[allow(clippy::too_many_arguments)]
 fn score_pairs<'py>(
     py: Python<'py>,
@@ -51,10 +59,18 @@ fn score_pairs<'py>(
     vertices: usize,
     samples: usize,
     seed: u64,
+    sampler: &str,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let spec = Score::from_name(
         score,
-        &options(threshold, method.to_string(), vertices, samples, seed),
+        &options(
+            threshold,
+            method.to_string(),
+            vertices,
+            samples,
+            seed,
+            sampler.to_string(),
+        ),
     )?;
     let (ea, eb) = (ellipses("a", &a)?, ellipses("b", &b)?);
     let n = broadcast_len(ea.len(), eb.len())?;
@@ -68,7 +84,7 @@ fn score_pairs<'py>(
 
 /// All-pairs scores, `(n, 5) x (m, 5) -> (n, m)`, refused above `max_bytes` of output.
 #[pyfunction]
-#[pyo3(signature = (a, b, score, *, max_bytes, threshold=false, method="polygon", vertices=256, samples=500, seed=0))]
+#[pyo3(signature = (a, b, score, *, max_bytes, threshold=false, method="exact", vertices=256, samples=500, seed=0, sampler="importance"))]
 #[allow(clippy::too_many_arguments)]
 fn score_cdist<'py>(
     py: Python<'py>,
@@ -81,10 +97,18 @@ fn score_cdist<'py>(
     vertices: usize,
     samples: usize,
     seed: u64,
+    sampler: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let spec = Score::from_name(
         score,
-        &options(threshold, method.to_string(), vertices, samples, seed),
+        &options(
+            threshold,
+            method.to_string(),
+            vertices,
+            samples,
+            seed,
+            sampler.to_string(),
+        ),
     )?;
     let (ea, eb) = (ellipses("a", &a)?, ellipses("b", &b)?);
     let (n, m) = (ea.len(), eb.len());
@@ -187,7 +211,31 @@ fn polygon_error_bound(vertices: usize, ratio: f64) -> f64 {
     crate::score::Polygon::new(vertices).error_bound(ratio)
 }
 
+/// Elementwise intersection areas of `a[k]` and `b[k]` (a length-1 side broadcasts).
+#[pyfunction]
+fn intersection_area<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArray2<'py, f64>,
+    b: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let (ea, eb) = (ellipses("a", &a)?, ellipses("b", &b)?);
+    let n = broadcast_len(ea.len(), eb.len())?;
+    let out = detached(py, || {
+        let mut out = vec![0.0; n];
+        crate::score::score_pairs(
+            &crate::score::IntersectionArea,
+            ea,
+            eb,
+            &mut out,
+            &mut check_signals,
+        )?;
+        Ok(out)
+    })?;
+    Ok(out.into_pyarray(py))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(intersection_area, m)?)?;
     m.add_function(wrap_pyfunction!(score_pairs, m)?)?;
     m.add_function(wrap_pyfunction!(score_cdist, m)?)?;
     m.add_function(wrap_pyfunction!(to_gaussian, m)?)?;

@@ -9,6 +9,8 @@
 //! its index, from which seeded scores derive their random stream, so results never depend on
 //! the number of threads.
 
+pub mod exact;
+pub mod gaussian;
 pub mod glr;
 pub mod monte_carlo;
 pub mod polygon;
@@ -19,6 +21,8 @@ use rayon::prelude::*;
 use crate::ellipse::Ellipse;
 use crate::error::{Error, Result};
 
+pub use exact::{Exact, IntersectionArea};
+pub use gaussian::GaussianScore;
 pub use glr::Glr;
 pub use monte_carlo::MonteCarlo;
 pub use polygon::Polygon;

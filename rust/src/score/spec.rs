@@ -4,7 +4,10 @@
 //! [`Score`] wraps every [`PairScore`] of the crate and dispatches the shared drivers to it, so
 //! a new score needs one enum variant and one line per match here.
 
-use super::{score_cdist, score_pairs, Glr, Interrupt, MonteCarlo, PairScore, Polygon};
+use super::monte_carlo::Sampler;
+use super::{
+    score_cdist, score_pairs, Exact, GaussianScore, Glr, Interrupt, MonteCarlo, PairScore, Polygon,
+};
 use crate::ellipse::Ellipse;
 use crate::error::{Error, Result};
 
@@ -13,7 +16,7 @@ use crate::error::{Error, Result};
 pub struct Options {
     /// GLR: force 0 / 1 for disjoint / nested ellipses.
     pub threshold: bool,
-    /// Overlap: the method (`"polygon"`).
+    /// Overlap: the method (`"exact"` or `"polygon"`).
     pub method: String,
     /// Polygon overlap: vertices per ellipse.
     pub vertices: usize,
@@ -21,22 +24,32 @@ pub struct Options {
     pub samples: usize,
     /// Monte-Carlo: seed of the random streams.
     pub seed: u64,
+    /// Monte-Carlo: the sampler (`"importance"`, `"uniform"` or `"sobol"`).
+    pub sampler: String,
 }
 
 impl Default for Options {
     fn default() -> Self {
         Self {
             threshold: false,
-            method: "polygon".into(),
+            method: "exact".into(),
             vertices: Polygon::DEFAULT_VERTICES,
             samples: MonteCarlo::default().samples,
             seed: 0,
+            sampler: "importance".into(),
         }
     }
 }
 
 /// Names accepted by [`Score::from_name`].
-pub const SCORE_NAMES: [&str; 3] = ["glr", "overlap", "monte_carlo"];
+pub const SCORE_NAMES: [&str; 6] = [
+    "glr",
+    "overlap",
+    "monte_carlo",
+    "bhattacharyya",
+    "hellinger",
+    "gaussian_product",
+];
 
 /// One of the crate's scores, chosen at run time.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,6 +57,8 @@ pub enum Score {
     Glr(Glr),
     Polygon(Polygon),
     MonteCarlo(MonteCarlo),
+    Exact(Exact),
+    Gaussian(GaussianScore),
 }
 
 impl Score {
@@ -67,9 +82,12 @@ impl Score {
                     }
                     Ok(Self::Polygon(Polygon::new(options.vertices)))
                 }
+                "exact" => Ok(Self::Exact(Exact)),
                 other => Err(Error::InvalidOption {
                     name: "method",
-                    reason: format!("unknown overlap method '{other}' (expected 'polygon')"),
+                    reason: format!(
+                        "unknown overlap method '{other}' (expected 'exact' or 'polygon')"
+                    ),
                 }),
             },
             "monte_carlo" => {
@@ -79,11 +97,24 @@ impl Score {
                         reason: "must be >= 1".into(),
                     });
                 }
+                let sampler =
+                    Sampler::from_name(&options.sampler).ok_or_else(|| Error::InvalidOption {
+                        name: "sampler",
+                        reason: format!(
+                            "unknown sampler '{}' (expected one of {:?})",
+                            options.sampler,
+                            Sampler::NAMES
+                        ),
+                    })?;
                 Ok(Self::MonteCarlo(MonteCarlo {
                     samples: options.samples,
                     seed: options.seed,
+                    sampler,
                 }))
             }
+            "bhattacharyya" => Ok(Self::Gaussian(GaussianScore::Bhattacharyya)),
+            "hellinger" => Ok(Self::Gaussian(GaussianScore::Hellinger)),
+            "gaussian_product" => Ok(Self::Gaussian(GaussianScore::Product)),
             other => Err(Error::InvalidOption {
                 name: "score",
                 reason: format!("unknown score '{other}' (expected one of {SCORE_NAMES:?})"),
@@ -103,6 +134,8 @@ impl Score {
             Self::Glr(s) => score_pairs(s, a, b, out, interrupt),
             Self::Polygon(s) => score_pairs(s, a, b, out, interrupt),
             Self::MonteCarlo(s) => score_pairs(s, a, b, out, interrupt),
+            Self::Exact(s) => score_pairs(s, a, b, out, interrupt),
+            Self::Gaussian(s) => score_pairs(s, a, b, out, interrupt),
         }
     }
 
@@ -118,6 +151,8 @@ impl Score {
             Self::Glr(s) => score_cdist(s, a, b, out, interrupt),
             Self::Polygon(s) => score_cdist(s, a, b, out, interrupt),
             Self::MonteCarlo(s) => score_cdist(s, a, b, out, interrupt),
+            Self::Exact(s) => score_cdist(s, a, b, out, interrupt),
+            Self::Gaussian(s) => score_cdist(s, a, b, out, interrupt),
         }
     }
 
@@ -127,6 +162,8 @@ impl Score {
             Self::Glr(s) => s.score(&s.prepare(a), &s.prepare(b), index),
             Self::Polygon(s) => s.score(&s.prepare(a), &s.prepare(b), index),
             Self::MonteCarlo(s) => s.score(&s.prepare(a), &s.prepare(b), index),
+            Self::Exact(s) => s.score(&s.prepare(a), &s.prepare(b), index),
+            Self::Gaussian(s) => s.score(&s.prepare(a), &s.prepare(b), index),
         }
     }
 }
@@ -144,11 +181,24 @@ mod tests {
         assert!(Score::from_name("nope", &o).is_err());
         let bad = Options {
             vertices: 3,
+            method: "polygon".into(),
             ..Options::default()
         };
         assert!(Score::from_name("overlap", &bad)
             .unwrap_err()
             .to_string()
             .contains("vertices"));
+        let bad = Options {
+            sampler: "halton".into(),
+            ..Options::default()
+        };
+        assert!(Score::from_name("monte_carlo", &bad)
+            .unwrap_err()
+            .to_string()
+            .contains("sampler"));
+        assert_eq!(
+            Score::from_name("overlap", &Options::default()).unwrap(),
+            Score::Exact(Exact)
+        );
     }
 }
