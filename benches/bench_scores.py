@@ -144,7 +144,13 @@ def main() -> None:
     kq = 20
     t_ref = best(lambda: ref.overlap_quad(pa[:kq], pb[:kq]), 1) * (k / kq)
     rows.append(
-        (f"overlap, exact (default), {k:,} pairs", "NumPy/SciPy quadrature reference", k, t_ref, t_ex)
+        (
+            f"overlap, exact (default), {k:,} pairs",
+            "NumPy/SciPy quadrature reference",
+            k,
+            t_ref,
+            t_ex,
+        )
     )
     k = 1_000_000 if not q else 200_000
     xa, xb = ref.random_pairs(k, rng)

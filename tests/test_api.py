@@ -201,3 +201,18 @@ def test_gil_is_released_during_work():
     stop.set()
     t.join()
     assert during > 5
+
+
+def test_vertices_alone_selects_the_polygon_method() -> None:
+    rng = np.random.default_rng(5)
+    a, b = ref.random_pairs(200, rng)
+    poly = geofeas.overlap(a, b, method="polygon", vertices=64)
+    np.testing.assert_array_equal(geofeas.overlap(a, b, vertices=64), poly)
+    np.testing.assert_array_equal(
+        geofeas.cdist(a[:5], b[:7], score="overlap", vertices=64),
+        geofeas.cdist(a[:5], b[:7], score="overlap", method="polygon", vertices=64),
+    )
+    # 64 vertices differ from the exact value by more than rounding, so the method really changed
+    assert np.max(np.abs(poly - geofeas.overlap(a, b))) > 1e-9
+    with pytest.raises(ValueError, match="vertices"):
+        geofeas.overlap(a, b, method="exact", vertices=64)

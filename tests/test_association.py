@@ -318,6 +318,30 @@ def test_one_ship_two_sources_beats_two_ships_passing(rng):
     assert wins >= 6  # 13.5 % of consistent true pairs fall below the match threshold
 
 
+@pytest.mark.parametrize(
+    ("score", "options"),
+    [
+        ("overlap", {}),
+        ("overlap", {"vertices": 64}),
+        ("monte_carlo", {"samples": 64, "sampler": "sobol", "seed": 3}),
+        ("bhattacharyya", {}),
+        ("gaussian_product", {}),
+    ],
+)
+def test_every_per_instant_score_ranks_the_true_pair_first(rng, score, options):
+    frame = pd.concat(
+        [
+            straight_track(rng, "ais-1", "ais", (0, 0), (6, 0), 10, 15),
+            straight_track(rng, "radar-1", "radar", (0, 0), (6, 0), 3, 50),
+            straight_track(rng, "radar-2", "radar", (3600, 150), (-6, 0), 3, 50),
+        ]
+    )
+    p = geofeas.associate(frame, score=score, combine="arithmetic", **options).pairs
+    p = p.set_index(["track_a", "track_b"])["score"]
+    other = p.get(("ais-1", "radar-2"), 0.0)
+    assert p[("ais-1", "radar-1")] > other
+
+
 def test_renumbered_tracks_form_one_object_and_overlaps_are_refused(rng):
     frame = pd.concat(
         [

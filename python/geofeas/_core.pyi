@@ -230,10 +230,11 @@ def associate(
     correlation_time: float = 60.0,
     window: float = 300.0,
     threshold: bool = False,
-    method: str = "polygon",
+    method: str = "exact",
     vertices: int = 256,
     samples: int = 500,
     seed: int = 0,
+    sampler: str = "importance",
     inflation: float | None = None,
 ) -> dict[str, Any]: ...
 def association_candidates(
@@ -268,10 +269,11 @@ def association_score_pairs(
     process_noise: float = 2.0,
     correlation_time: float = 60.0,
     threshold: bool = False,
-    method: str = "polygon",
+    method: str = "exact",
     vertices: int = 256,
     samples: int = 500,
     seed: int = 0,
+    sampler: str = "importance",
     inflation: float = 1.0,
 ) -> tuple[NDArray[np.float64], NDArray[np.uint32]]: ...
 def combine_instants(

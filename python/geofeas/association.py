@@ -42,12 +42,19 @@ REQUIRED = ("track_id", "source", "time")
 #: Combination rules of :func:`associate` (``"chi2"`` is the calibrated default).
 COMBINE_RULES = ("chi2", "pvalue", "geometric", "harmonic", "arithmetic", "min")
 #: Scores of :func:`associate` (``"glr_threshold"`` is ``"glr"`` with ``threshold=True``).
-SCORES = ("glr", "glr_threshold", "overlap", "monte_carlo")
+SCORES = (
+    "glr",
+    "glr_threshold",
+    "overlap",
+    "monte_carlo",
+    "bhattacharyya",
+    "gaussian_product",
+)
 #: Default match threshold: the ``"chi2"`` score of a fit like one instant 2 sigma apart.
 DEFAULT_UPPER: float = _core.association_default_upper()
 CLASSES = np.array(["match", "borderline", "non-match"], dtype=object)
 
-_SCORE_OPTIONS = ("threshold", "method", "vertices", "samples", "seed")
+_SCORE_OPTIONS = ("threshold", "method", "vertices", "samples", "seed", "sampler")
 
 
 def _pandas() -> Any:
@@ -514,6 +521,9 @@ def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, 
         raise GeofeasError(f"score: unknown score {score!r} (expected one of {SCORES})")
     if opts.get("seed") is None:
         opts.pop("seed", None)
+    if score == "overlap" and "vertices" in opts:
+        # a resolution alone asks for the polygon method, as in geofeas.overlap
+        opts.setdefault("method", "polygon")
     return score, opts
 
 
@@ -572,8 +582,8 @@ def associate(
         which keeps true pairs matched when a source's AOUs are optimistic; a number divides
         every summed distance by it (1: the AOUs as given). See :attr:`Association.inflation`.
     **score_options
-        ``threshold`` (glr), ``method`` and ``vertices`` (overlap), ``samples`` and ``seed``
-        (monte_carlo).
+        ``threshold`` (glr), ``method`` and ``vertices`` (overlap), ``samples``, ``seed`` and
+        ``sampler`` (monte_carlo).
 
     Returns
     -------

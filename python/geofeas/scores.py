@@ -86,8 +86,10 @@ def _options(score: str, options: dict[str, Any]) -> dict[str, Any]:
         )
     out: dict[str, Any] = {}
     if score == "overlap":
-        options = {k: v for k, v in options.items() if not (k == "vertices" and v is None)}
-        if "vertices" in options and options.get("method", "exact") != "polygon":
+        options = {k: v for k, v in options.items() if v is not None}
+        # a resolution alone asks for the polygon method (the exact method has none)
+        options.setdefault("method", "polygon" if "vertices" in options else "exact")
+        if "vertices" in options and options["method"] != "polygon":
             raise GeofeasError(
                 "vertices applies only to method='polygon' (the exact method has no resolution)"
             )
@@ -146,7 +148,7 @@ def overlap(
     b: ArrayLike,
     /,
     *,
-    method: str = "exact",
+    method: str | None = None,
     vertices: int | None = None,
 ) -> Any:
     """Normalised overlap area ``area(A ∩ B) / area(smaller)`` (seed 000, eqs. 49-50).
@@ -161,10 +163,11 @@ def overlap(
     Parameters
     ----------
     a, b : array_like, shape (5,) or (n, 5)
-    method : {"exact", "polygon"}
+    method : {"exact", "polygon"}, optional
+        Default ``"exact"``, or ``"polygon"`` when ``vertices`` is given.
     vertices : int, optional
         Polygon resolution (>= 8) of ``method="polygon"`` (default :data:`DEFAULT_VERTICES`);
-        an error with the exact method.
+        giving it alone selects the polygon method; an error with ``method="exact"``.
 
     Returns
     -------

@@ -79,6 +79,7 @@ fn options(
     vertices: usize,
     samples: usize,
     seed: u64,
+    sampler: &str,
     inflation: Option<f64>,
 ) -> PyResult<Options> {
     let spec = Score::from_name(
@@ -89,6 +90,7 @@ fn options(
             vertices,
             samples,
             seed,
+            sampler: sampler.to_string(),
         },
     )?;
     Ok(Options {
@@ -115,8 +117,8 @@ fn options(
 #[pyfunction]
 #[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic, score="glr", combine="chi2",
     lower=0.5, upper=None, max_gap=300.0, horizon=0.0, process_noise=2.0, same_source=false,
-    correlation_time=60.0, window=300.0, threshold=false, method="polygon", vertices=256,
-    samples=500, seed=0, inflation=None))]
+    correlation_time=60.0, window=300.0, threshold=false, method="exact", vertices=256,
+    samples=500, seed=0, sampler="importance", inflation=None))]
 #[allow(clippy::too_many_arguments)]
 fn associate<'py>(
     py: Python<'py>,
@@ -141,6 +143,7 @@ fn associate<'py>(
     vertices: usize,
     samples: usize,
     seed: u64,
+    sampler: &str,
     inflation: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let o = options(
@@ -159,6 +162,7 @@ fn associate<'py>(
         vertices,
         samples,
         seed,
+        sampler,
         inflation,
     )?;
     let (t, s, tm) = (
@@ -240,7 +244,8 @@ fn association_candidates<'py>(
 #[pyfunction]
 #[pyo3(signature = (track, source, time, aou, n_tracks, a, b, *, geographic, score="glr",
     combine="chi2", max_gap=300.0, horizon=0.0, process_noise=2.0, correlation_time=60.0,
-    threshold=false, method="polygon", vertices=256, samples=500, seed=0, inflation=1.0))]
+    threshold=false, method="exact", vertices=256, samples=500, seed=0, sampler="importance",
+    inflation=1.0))]
 #[allow(clippy::too_many_arguments)]
 fn association_score_pairs<'py>(
     py: Python<'py>,
@@ -263,6 +268,7 @@ fn association_score_pairs<'py>(
     vertices: usize,
     samples: usize,
     seed: u64,
+    sampler: &str,
     inflation: f64,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
     let r = reports(&track, &source, &time, &aou, n_tracks, geographic)?;
@@ -282,6 +288,7 @@ fn association_score_pairs<'py>(
         vertices,
         samples,
         seed,
+        sampler,
         Some(inflation),
     )?;
     let (sa, sb) = (slice1("a", &a)?, slice1("b", &b)?);
