@@ -236,6 +236,7 @@ def associate(
     seed: int = 0,
     sampler: str = "importance",
     inflation: float | None = None,
+    margin: float | None = None,
 ) -> dict[str, Any]: ...
 def association_candidates(
     track: NDArray[np.uint32],

@@ -81,6 +81,7 @@ fn options(
     seed: u64,
     sampler: &str,
     inflation: Option<f64>,
+    margin: Option<f64>,
 ) -> PyResult<Options> {
     let spec = Score::from_name(
         score,
@@ -109,6 +110,7 @@ fn options(
             same_source,
         },
         inflation,
+        margin,
     }
     .validated()?)
 }
@@ -118,7 +120,7 @@ fn options(
 #[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic, score="glr", combine="chi2",
     lower=0.5, upper=None, max_gap=300.0, horizon=0.0, process_noise=2.0, same_source=false,
     correlation_time=60.0, window=300.0, threshold=false, method="exact", vertices=256,
-    samples=500, seed=0, sampler="importance", inflation=None))]
+    samples=500, seed=0, sampler="importance", inflation=None, margin=None))]
 #[allow(clippy::too_many_arguments)]
 fn associate<'py>(
     py: Python<'py>,
@@ -145,6 +147,7 @@ fn associate<'py>(
     seed: u64,
     sampler: &str,
     inflation: Option<f64>,
+    margin: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let o = options(
         score,
@@ -164,6 +167,7 @@ fn associate<'py>(
         seed,
         sampler,
         inflation,
+        margin,
     )?;
     let (t, s, tm) = (
         slice1("track", &track)?,
@@ -290,6 +294,7 @@ fn association_score_pairs<'py>(
         seed,
         sampler,
         Some(inflation),
+        None,
     )?;
     let (sa, sb) = (slice1("a", &a)?, slice1("b", &b)?);
     if sa.len() != sb.len() {
