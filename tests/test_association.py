@@ -577,3 +577,40 @@ def test_auto_inflation_recovers_true_pairs_with_optimistic_aous(rng):
     assert 2.3 < c < 3.6
     assert strict.inflation == {("ais", "radar"): 1.0}
     assert geofeas.associate(frame, combine="geometric").inflation == {}
+
+
+def test_assignment_is_one_to_one_between_two_sources(rng):
+    frame = pd.concat(
+        [
+            straight_track(rng, "ais", "ais", (0, 0), (5, 0), 10, 10, duration=1200),
+            straight_track(rng, "r1", "radar", (0, 0), (5, 0), 3, 30, duration=500),
+            straight_track(rng, "r2", "radar", (3000, 0), (5, 0), 3, 30, duration=600, t0=600),
+            straight_track(rng, "other", "ais", (0, 150), (5, 0), 10, 10, duration=1200),
+        ]
+    )
+    res = geofeas.associate(frame)
+    one = res.assignment("ais", "radar")
+    tracks = list(one.track_a) + list(one.track_b)
+    assert len(tracks) == len(set(tracks))  # nobody twice
+    total = one.score.sum()
+    # brute force over all one-to-one choices of the candidate pairs between the two sources
+    p = res.pairs[res.pairs.score >= 0.5]
+    best = 0.0
+    rows = list(p.itertuples())
+    for mask in range(1 << len(rows)):
+        chosen = [r for i, r in enumerate(rows) if mask >> i & 1]
+        ends = [r.track_a for r in chosen] + [r.track_b for r in chosen]
+        if len(ends) == len(set(ends)):
+            best = max(best, sum(r.score for r in chosen))
+    assert total == pytest.approx(best, rel=1e-12)
+    with pytest.raises(geofeas.GeofeasError, match="unknown source"):
+        res.assignment("ais", "sonar")
+
+
+def test_empty_reports_give_empty_results():
+    empty = pd.DataFrame(
+        {c: np.array([], dtype=float) for c in ("time", "x", "y", "rx", "ry", "phi")}
+    ).assign(track_id=np.array([], dtype=np.int64), source=np.array([], dtype=np.int64))
+    res = geofeas.associate(empty)
+    assert len(res.pairs) == 0 and len(res.objects) == 0
+    assert list(res.pairs.columns) == ["track_a", "track_b", "score", "instants", "class"]
