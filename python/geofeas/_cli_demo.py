@@ -9,8 +9,8 @@ default configuration and for every score and combination rule. Writes into ``--
 ``reports.csv`` (the simulated reports, with the truth column ``mmsi``; ``geofeas associate``
 reads it), ``pairs.csv`` (the default association's candidate pairs with the truth),
 ``metrics.csv`` and ``metrics.md`` (one row per score and combination rule),
-``metrics_by_sources.csv`` and
-``map.png`` (AOUs of a busy area coloured by associated object; needs matplotlib).
+``metrics_by_sources.csv`` and ``map.png`` (AOUs of a busy area coloured by associated object;
+needs matplotlib).
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ import sys
 from typing import Any
 
 from ._core import GeofeasError
+from .association import COMBINE_RULES
 
 # the names only (the modules need pandas, imported when the command runs); tests check that
 # they match geofeas.scenario.SENSORS, geofeas.demo.SCORES and geofeas.demo.RECORDINGS
@@ -158,6 +159,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--combine",
         action="append",
+        choices=list(COMBINE_RULES),
         help="combination rule of the comparison table (repeatable; default all)",
     )
     p.add_argument("--lower", type=float, default=None, help="triage: non-match below")
