@@ -49,6 +49,8 @@ def main(args: argparse.Namespace) -> int:
         options["lower"] = args.lower
     if args.upper is not None:
         options["upper"] = args.upper
+    if args.margin is not None:
+        options["margin"] = args.margin
     scores = args.score if args.score else list(SCORES)
     result = run(
         args.ais,
@@ -164,6 +166,13 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument("--lower", type=float, default=None, help="triage: non-match below")
     p.add_argument("--upper", type=float, default=None, help="triage: match at or above")
+    p.add_argument(
+        "--margin",
+        type=float,
+        default=None,
+        help="matches must beat their mutually exclusive rivals by this log-likelihood margin "
+        "(default: no such check)",
+    )
     p.add_argument(
         "--grid",
         action="store_true",
