@@ -9,8 +9,8 @@ default configuration and for every score and combination rule. Writes into ``--
 ``reports.csv`` (the simulated reports, with the truth column ``mmsi``; ``geofeas associate``
 reads it), ``pairs.csv`` (the default association's candidate pairs with the truth),
 ``metrics.csv`` and ``metrics.md`` (one row per score and combination rule),
-``metrics_by_sources.csv`` and
-``map.png`` (AOUs of a busy area coloured by associated object; needs matplotlib).
+``metrics_by_sources.csv`` and ``map.png`` (AOUs of a busy area coloured by associated object;
+needs matplotlib).
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ import sys
 from typing import Any
 
 from ._core import GeofeasError
+from .association import COMBINE_RULES
 
 # the names only (the modules need pandas, imported when the command runs); tests check that
 # they match geofeas.scenario.SENSORS, geofeas.demo.SCORES and geofeas.demo.RECORDINGS
@@ -48,6 +49,8 @@ def main(args: argparse.Namespace) -> int:
         options["lower"] = args.lower
     if args.upper is not None:
         options["upper"] = args.upper
+    if args.margin is not None:
+        options["margin"] = args.margin
     scores = args.score if args.score else list(SCORES)
     result = run(
         args.ais,
@@ -158,10 +161,18 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--combine",
         action="append",
+        choices=list(COMBINE_RULES),
         help="combination rule of the comparison table (repeatable; default all)",
     )
     p.add_argument("--lower", type=float, default=None, help="triage: non-match below")
     p.add_argument("--upper", type=float, default=None, help="triage: match at or above")
+    p.add_argument(
+        "--margin",
+        type=float,
+        default=None,
+        help="matches must beat their mutually exclusive rivals by this log-likelihood margin "
+        "(default: no such check)",
+    )
     p.add_argument(
         "--grid",
         action="store_true",
