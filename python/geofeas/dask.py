@@ -332,44 +332,44 @@ def _reports_of(part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, 
         raise _global_rows(exc, rows) from None
 
 
-def _partition_partials(part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, ...]):
-    return _partials(_reports_of(part, pidx, coords, columns))
+def _partition_partials(
+    part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, ...]
+) -> tuple[tuple[NDArray[Any], ...], pd.DataFrame, pd.DataFrame]:
+    """A partition parsed once: its reports as arrays, and its partial aggregates."""
+    rep = _reports_of(part, pidx, coords, columns)
+    agg, ends = _partials(rep)
+    return (rep.track, rep.source, rep.time, rep.aou, rep.track_ids, rep.sources), agg, ends
 
 
 def _to_tiles(
-    part: pd.DataFrame,
+    parsed: tuple[NDArray[Any], ...],
+    pidx: int,
     coords: str,
-    columns: tuple[str, ...],
-    track_ids: NDArray[Any],
-    sources: NDArray[Any],
-    first_copy: NDArray[np.int64],
-    copies: NDArray[np.int64],
-    keys: NDArray[np.int64],
-    partition_info: Any = None,
+    shared: tuple[NDArray[Any], ...],
 ) -> pd.DataFrame:
-    """The reports of a partition, parsed, numbered and copied into their tracks' tiles.
+    """The reports of a partition, numbered and copied into their tracks' tiles.
 
     Ids become the track's index among all sorted track ids (``track_id``) and the source's
-    among all sorted sources (``source``), times become seconds: every column is numeric, and
+    among all sorted sources (``source``), times are seconds: every column is numeric, and
     the engine, which numbers a tile's tracks by their sorted ids, numbers them in the same
     order as the whole picture.
     """
-    pidx = int(partition_info["number"]) if partition_info else 0
-    rep = _reports_of(part, pidx, coords, columns)
-    gid = np.searchsorted(track_ids, rep.track_ids)[rep.track].astype(np.int64)
-    src = np.searchsorted(sources, rep.sources)[rep.source].astype(np.int64)
+    track, source, time, aou, local_ids, local_sources = parsed
+    track_ids, sources, first_copy, copies, keys = shared
+    gid = np.searchsorted(track_ids, local_ids).astype(np.int64)[track]
+    src = np.searchsorted(sources, local_sources).astype(np.int64)[source]
     count = copies[gid]
-    row = np.repeat(np.arange(len(rep), dtype=np.int64), count)
+    row = np.repeat(np.arange(len(time), dtype=np.int64), count)
     start = np.repeat(first_copy[gid] - np.cumsum(count) + count, count)
     tile = keys[start + np.arange(row.size, dtype=np.int64)]
     names = PLANAR if coords == "planar" else GEOGRAPHIC
     out: dict[str, Any] = {
         "track_id": gid[row],
         "source": src[row],
-        "time": rep.time[row],
+        "time": time[row],
     }
     for k, name in enumerate(names):
-        out[name] = rep.aou[row, k]
+        out[name] = aou[row, k]
     out["_row"] = (np.int64(pidx) << _ROW_BITS) + row
     out["_tile"] = tile
     return pd.DataFrame(out)
@@ -638,12 +638,13 @@ def _run(
 
     nparts = ddf.npartitions
     # 1. per-track boxes from per-partition partial aggregates (no shuffle of the reports)
-    parts = ddf.to_delayed()
-    partial = dask.delayed(_partition_partials, pure=True)
-    results = dask.compute(*[partial(p, i, coords, columns) for i, p in enumerate(parts)])
+    # (each partition is parsed once; the parsed arrays stay on the workers for step 3)
+    partial = dask.delayed(_partition_partials, pure=True, nout=3)
+    stage = dask.persist(*[partial(p, i, coords, columns) for i, p in enumerate(ddf.to_delayed())])
+    aggs, ends = dask.compute([s[1] for s in stage], [s[2] for s in stage])
     tracks = _combine(
-        [r[0] for r in results],
-        [r[1] for r in results],
+        list(aggs),
+        list(ends),
         coords,
         max_gap=index["max_gap"],
         horizon=index["horizon"],
@@ -679,16 +680,12 @@ def _run(
     n_tiles = int(np.unique(keys).size)
 
     # 3. reports, as numbers, copied into tiles; one shuffle; each tile scores the pairs it owns
-    tiled = ddf.map_partitions(
-        _to_tiles,
-        coords,
-        columns,
-        track_ids,
-        sources,
-        first_copy,
-        copies,
-        keys,
+    shared = dask.delayed((track_ids, sources, first_copy, copies, keys), pure=True)
+    to_tiles = dask.delayed(_to_tiles, pure=True)
+    tiled = dd.from_delayed(
+        [to_tiles(s[0], i, coords, shared) for i, s in enumerate(stage)],
         meta=_tiles_meta(coords),
+        verify_meta=False,
     )
     tiled = tiled.shuffle("_tile", npartitions=max(1, min(n_tiles, 4 * nparts)))
     scored = tiled.map_partitions(
