@@ -40,6 +40,7 @@ def run(args: argparse.Namespace) -> int:
         same_source=args.same_source,
         correlation_time=args.correlation_time,
         window=args.window,
+        inflation=args.inflation if args.inflation == "auto" else float(args.inflation),
         **options,
     )
     result.to_file(args.out)
@@ -54,10 +55,23 @@ def run(args: argparse.Namespace) -> int:
         )
         print(
             "  "
-            + ", ".join(f"{int(counts.get(c, 0))} {c}" for c in ("match", "borderline", "non-match"))
+            + ", ".join(
+                f"{int(counts.get(c, 0))} {c}" for c in ("match", "borderline", "non-match")
+            )
             + f"; {result.objects['object'].nunique()} objects"
         )
     return 0
+
+
+def _inflation(text: str) -> str:
+    if text != "auto":
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected 'auto' or a number, got {text!r}") from None
+        if not value > 0:
+            raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return text
 
 
 def add_parser(sub: Any) -> None:
@@ -77,13 +91,14 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument("--lower", type=float, default=0.5, help="non-match below (default 0.5)")
     p.add_argument(
-        "--upper", type=float, default=DEFAULT_UPPER, help=f"match from (default {DEFAULT_UPPER:.4f})"
+        "--upper",
+        type=float,
+        default=DEFAULT_UPPER,
+        help=f"match from (default {DEFAULT_UPPER:.4f})",
     )
     p.add_argument("--max-gap", type=float, default=300.0, help="longest interpolated gap (s)")
     p.add_argument("--horizon", type=float, default=0.0, help="extrapolation horizon (s)")
-    p.add_argument(
-        "--process-noise", type=float, default=2.0, help="position diffusion q (m^2/s)"
-    )
+    p.add_argument("--process-noise", type=float, default=2.0, help="position diffusion q (m^2/s)")
     p.add_argument(
         "--same-source", action="store_true", help="also compare tracks of the same source"
     )
@@ -91,7 +106,15 @@ def add_parser(sub: Any) -> None:
         "--correlation-time", type=float, default=60.0, help="error correlation time (s)"
     )
     p.add_argument("--window", type=float, default=300.0, help="index chunk length (s)")
-    p.add_argument("--threshold", action="store_true", help="thresholded GLR (same as glr_threshold)")
+    p.add_argument(
+        "--threshold", action="store_true", help="thresholded GLR (same as glr_threshold)"
+    )
+    p.add_argument(
+        "--inflation",
+        default="auto",
+        type=_inflation,
+        help="covariance inflation of the chi-square rules: 'auto' (default) or a number",
+    )
     p.add_argument("--vertices", type=int, default=256, help="overlap polygon resolution")
     p.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per instant")
     p.add_argument("--seed", type=int, default=0, help="Monte-Carlo seed")

@@ -133,6 +133,7 @@ def associate(
     vertices: int = 256,
     samples: int = 500,
     seed: int = 0,
+    inflation: float | None = None,
 ) -> dict[str, Any]: ...
 def association_candidates(
     track: NDArray[np.uint32],
@@ -170,6 +171,7 @@ def association_score_pairs(
     vertices: int = 256,
     samples: int = 500,
     seed: int = 0,
+    inflation: float = 1.0,
 ) -> tuple[NDArray[np.float64], NDArray[np.uint32]]: ...
 def combine_instants(
     g: NDArray[np.float64],

@@ -55,8 +55,7 @@ def _pandas() -> Any:
         import pandas as pd
     except ImportError:  # pragma: no cover - depends on the environment
         raise GeofeasError(
-            "geofeas association needs pandas (and pyarrow for Parquet): "
-            "pip install 'geofeas[io]'"
+            "geofeas association needs pandas (and pyarrow for Parquet): pip install 'geofeas[io]'"
         ) from None
     return pd
 
@@ -150,6 +149,8 @@ def _read_table(source: Any) -> tuple[pd.DataFrame, _Where]:
         raise GeofeasError(f"{path}: unknown file type {suffix!r} (expected .csv or .parquet)")
     if isinstance(source, pd.DataFrame):
         return source.reset_index(drop=True), _Where(None, lines=False)
+    if isinstance(source, np.ndarray) and source.dtype.names:
+        return pd.DataFrame.from_records(source), _Where(None, lines=False)
     if isinstance(source, Mapping):
         try:
             return pd.DataFrame(dict(source)), _Where(None, lines=False)
@@ -214,7 +215,15 @@ def _times(frame: pd.DataFrame, where: _Where) -> NDArray[np.float64]:
     else:
         text = col.astype(str)
         numeric = pd.to_numeric(text, errors="coerce")
-        if not numeric.isna().any():
+        if len(text) and not np.isnan(numeric.iloc[0]):
+            # the first value is a number: the column is seconds
+            bad = numeric.isna().to_numpy()
+            if bad.any():
+                row = _first(bad)
+                raise GeofeasError(
+                    f"{where(row)}: column time: {text.iloc[row]!r} is not a number of seconds "
+                    f"(the column is read as seconds, as its first value is)"
+                )
             return _times(frame.assign(time=numeric), where)
         try:
             dt = pd.to_datetime(text, utc=True, errors="coerce", format="ISO8601")
@@ -224,8 +233,8 @@ def _times(frame: pd.DataFrame, where: _Where) -> NDArray[np.float64]:
         if bad.any():
             row = _first(bad)
             raise GeofeasError(
-                f"{where(row)}: column time: {text.iloc[row]!r} is neither seconds nor an "
-                "ISO-8601 time"
+                f"{where(row)}: column time: {text.iloc[row]!r} is not an ISO-8601 time "
+                "(the column is read as ISO-8601, as its first value is)"
             )
     epoch = pd.Timestamp("1970-01-01", tz="UTC")
     return np.ascontiguousarray(((dt - epoch) / pd.Timedelta(seconds=1)).to_numpy(np.float64))
@@ -245,9 +254,7 @@ def _numbers(frame: pd.DataFrame, columns: tuple[str, ...], where: _Where) -> ND
         bad = values.isna().to_numpy()
         if bad.any():
             row = _first(bad)
-            raise GeofeasError(
-                f"{where(row)}: column {name}: {col.iloc[row]!r} is not a number"
-            )
+            raise GeofeasError(f"{where(row)}: column {name}: {col.iloc[row]!r} is not a number")
         v = values.to_numpy(dtype=np.float64)
         bad = ~np.isfinite(v)
         if bad.any():
@@ -274,7 +281,7 @@ def read_reports(source: Any, /, *, coords: str = "auto") -> Reports:
 
     Parameters
     ----------
-    source : path, pandas.DataFrame, dict of arrays or Reports
+    source : path, pandas.DataFrame, dict of arrays, NumPy structured array or Reports
         A ``.csv`` or ``.parquet`` file, or a table, with the columns ``track_id``, ``source``,
         ``time`` (seconds, or ISO-8601 strings read as UTC) and either ``x, y, rx, ry, phi``
         (planar: metres, ``phi`` in radians clockwise from north) or ``lat, lon, rx, ry,
@@ -381,13 +388,14 @@ class Association:
     candidates : int
         Number of candidate pairs the space-time index returned (before dropping those without
         a common instant).
+    inflation : dict
+        ``{(source_a, source_b): c}``: the covariance inflation the chi-square rules used for
+        each pair of sources (estimated with ``inflation="auto"``); empty for other rules.
     options : dict
         The options used.
     """
 
-    def __init__(
-        self, reports: Reports, raw: Mapping[str, Any], options: dict[str, Any]
-    ) -> None:
+    def __init__(self, reports: Reports, raw: Mapping[str, Any], options: dict[str, Any]) -> None:
         pd = _pandas()
         self.reports = reports
         self.options = options
@@ -406,6 +414,13 @@ class Association:
                 "class": CLASSES[np.asarray(raw["class"], dtype=np.intp)],
             }
         )
+        srcs = reports.sources
+        self.inflation = {
+            (srcs[int(a)], srcs[int(b)]): float(c)
+            for a, b, c in zip(
+                raw["inflation_a"], raw["inflation_b"], raw["inflation"], strict=True
+            )
+        }
         obj = np.asarray(raw["object"], dtype=np.int64)
         per_track_source = np.empty(reports.n_tracks, dtype=np.intp)
         per_track_source[reports.track] = reports.source
@@ -420,14 +435,17 @@ class Association:
     def __repr__(self) -> str:
         counts = self.pairs["class"].value_counts()
         parts = ", ".join(f"{int(counts.get(c, 0))} {c}" for c in CLASSES)
-        return f"Association({len(self.pairs)} pairs: {parts}; {self.objects['object'].nunique()} objects)"
+        objects = self.objects["object"].nunique()
+        return f"Association({len(self.pairs)} pairs: {parts}; {objects} objects)"
 
     @property
     def matches(self) -> pd.DataFrame:
         """The pairs classed ``"match"``."""
         return self.pairs[self.pairs["class"] == "match"].reset_index(drop=True)
 
-    def assignment(self, source_a: Any, source_b: Any, *, min_score: float | None = None) -> pd.DataFrame:
+    def assignment(
+        self, source_a: Any, source_b: Any, *, min_score: float | None = None
+    ) -> pd.DataFrame:
         """One-to-one assignment between the tracks of two sources maximising the total score
         (Hungarian algorithm per connected component of the sparse candidate graph, in Rust).
 
@@ -513,6 +531,7 @@ def associate(
     same_source: bool = False,
     correlation_time: float = 60.0,
     window: float = 300.0,
+    inflation: float | str = "auto",
     **score_options: Any,
 ) -> Association:
     """Score every candidate track pair and group duplicate tracks into objects.
@@ -546,6 +565,12 @@ def associate(
         ``"pvalue"``; 0 treats instants as independent.
     window : float
         Longest time span of one chunk of the space-time index (s); affects speed only.
+    inflation : "auto" or float
+        Covariance inflation of the chi-square rules. ``"auto"`` (default) estimates one factor
+        per pair of sources from the pairs that are each other's best partner (median of their
+        mean distances against the chi-square median; at least 1, so AOUs are never tightened),
+        which keeps true pairs matched when a source's AOUs are optimistic; a number divides
+        every summed distance by it (1: the AOUs as given). See :attr:`Association.inflation`.
     **score_options
         ``threshold`` (glr), ``method`` and ``vertices`` (overlap), ``samples`` and ``seed``
         (monte_carlo).
@@ -556,6 +581,12 @@ def associate(
     """
     rep = read_reports(reports)
     name, opts = _score_options(score, score_options)
+    if isinstance(inflation, str):
+        if inflation != "auto":
+            raise GeofeasError(f"inflation: expected 'auto' or a number, got {inflation!r}")
+        infl: float | None = None
+    else:
+        infl = float(inflation)
     options = dict(
         score=score,
         combine=combine,
@@ -567,6 +598,7 @@ def associate(
         same_source=bool(same_source),
         correlation_time=float(correlation_time),
         window=float(window),
+        inflation=inflation,
         **score_options,
     )
     raw = _core.associate(
@@ -582,6 +614,7 @@ def associate(
         same_source=bool(same_source),
         correlation_time=float(correlation_time),
         window=float(window),
+        inflation=infl,
         **opts,
     )
     return Association(rep, raw, options)

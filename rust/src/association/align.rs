@@ -198,10 +198,10 @@ pub fn common_instants(r: &Reports, a: usize, b: usize, o: &Alignment) -> Vec<In
     // reports of a inside b's extended span
     let lo = ta.partition_point(|&x| x < sb0 - o.horizon);
     let hi = ta.partition_point(|&x| x <= sb1 + o.horizon);
-    for k in lo..hi {
-        if let Some(sb) = state_at(r, b, ta[k], o) {
+    for (k, &t) in ta.iter().enumerate().take(hi).skip(lo) {
+        if let Some(sb) = state_at(r, b, t, o) {
             out.push(Instant {
-                time: ta[k],
+                time: t,
                 a: r.state[ra.start + k],
                 b: sb,
             });
@@ -210,8 +210,7 @@ pub fn common_instants(r: &Reports, a: usize, b: usize, o: &Alignment) -> Vec<In
     let lo = tb.partition_point(|&x| x < sa0 - o.horizon);
     let hi = tb.partition_point(|&x| x <= sa1 + o.horizon);
     let before = out.len();
-    for k in lo..hi {
-        let t = tb[k];
+    for (k, &t) in tb.iter().enumerate().take(hi).skip(lo) {
         if ta.binary_search_by(|x| x.total_cmp(&t)).is_ok() {
             continue; // a has a report at t: already an instant
         }

@@ -129,16 +129,113 @@ impl Combine {
             Self::Min => g.iter().copied().fold(f64::INFINITY, f64::min),
             Self::PValue | Self::Chi2 => {
                 let k_eff = effective_instants(times, correlation_time);
-                let p = chi2_pvalue(m.iter().sum::<f64>(), kf, k_eff);
-                if self == Self::PValue {
-                    p
-                } else {
-                    // p^(ln 2 / 4.5) = 2^(-m_eq / 9) with m_eq = -2 ln p
-                    (p.ln() * std::f64::consts::LN_2 / (0.5 * BORDER_M)).exp()
-                }
+                self.from_summary(m.iter().sum::<f64>(), kf, k_eff)
             }
         }
     }
+
+    /// Whether the rule is a chi-square test of the summed distances (so that it can be
+    /// evaluated from `(sum m, k, k_eff)` and corrected by a covariance inflation).
+    pub fn is_chi2(self) -> bool {
+        matches!(self, Self::Chi2 | Self::PValue)
+    }
+
+    /// A chi-square rule from the pair's summary: summed distances, instants and effective
+    /// instants. Other rules: `NaN`.
+    pub fn from_summary(self, sum_m: f64, k: f64, k_eff: f64) -> f64 {
+        let p = chi2_pvalue(sum_m, k, k_eff);
+        match self {
+            Self::PValue => p,
+            // p^(ln 2 / 4.5) = 2^(-m_eq / 9) with m_eq = -2 ln p
+            Self::Chi2 => (p.ln() * std::f64::consts::LN_2 / (0.5 * BORDER_M)).exp(),
+            _ => f64::NAN,
+        }
+    }
+}
+
+/// Fewest mutually-best pairs from which [`estimate_inflation`] estimates a factor.
+pub const MIN_INFLATION_PAIRS: usize = 8;
+/// Largest inflation [`estimate_inflation`] returns (AOUs understated by 4x in sigma); pairs
+/// whose ratio exceeds it are taken for different objects and left out of the estimate.
+pub const MAX_INFLATION: f64 = 16.0;
+
+/// Covariance inflation per pair of sources, estimated from the data (the `"auto"` inflation).
+///
+/// The chi-square rules are calibrated when the AOUs are consistent; a source whose AOUs are
+/// optimistic makes every true pair look worse the more instants it has. Under a common scale
+/// `c` of the covariances of two sources the mean distance of a true pair is `c` times chi-square:
+/// `m_bar = sum m / k ~ c chi2_{2 k_eff} / k_eff`, whose median is `2 c (1 - 1/(9 k_eff))^3`
+/// (Wilson-Hilferty). For every pair of sources, the pairs that are each other's best partner
+/// in the other source (smallest `m_bar`, at least 3 instants) are taken as the likely true
+/// pairs, and `c` is the median of `m_bar / (2 (1 - 1/(9 k_eff))^3)` over those whose ratio is
+/// at most [`MAX_INFLATION`] (beyond, a pair is taken for two objects) — robust to up to half of
+/// them being wrong — clamped to at least 1 (AOUs are never tightened). With fewer
+/// than [`MIN_INFLATION_PAIRS`] such pairs the estimate pooled over all sources is used, and
+/// with fewer than that in total, 1.
+///
+/// `pairs[i]` has summary `stats[i] = (sum m, k, k_eff)`; returns `(source_lo, source_hi, c)`
+/// for every pair of sources that occurs, sorted.
+pub fn estimate_inflation(
+    pairs: &[(u32, u32)],
+    track_source: &[u32],
+    stats: &[(f64, f64, f64)],
+) -> Vec<(u32, u32, f64)> {
+    use std::collections::{BTreeMap, HashMap};
+    let mean = |i: usize| stats[i].0 / stats[i].1;
+    let mut best: HashMap<(u32, u32), usize> = HashMap::new();
+    for (i, &(a, b)) in pairs.iter().enumerate() {
+        if stats[i].1 < 3.0 || !mean(i).is_finite() {
+            continue;
+        }
+        for (t, other) in [(a, b), (b, a)] {
+            let key = (t, track_source[other as usize]);
+            let e = best.entry(key).or_insert(i);
+            if mean(i) < mean(*e) || (mean(i) == mean(*e) && i < *e) {
+                *e = i;
+            }
+        }
+    }
+    let mut ratios: BTreeMap<(u32, u32), Vec<f64>> = BTreeMap::new();
+    let mut all = Vec::new();
+    let mut groups: BTreeMap<(u32, u32), ()> = BTreeMap::new();
+    for (i, &(a, b)) in pairs.iter().enumerate() {
+        let (sa, sb) = (track_source[a as usize], track_source[b as usize]);
+        let key = (sa.min(sb), sa.max(sb));
+        groups.insert(key, ());
+        let mutual = best.get(&(a, sb)) == Some(&i) && best.get(&(b, sa)) == Some(&i);
+        if mutual {
+            let ke = stats[i].2;
+            let r = mean(i) / (2.0 * (1.0 - 1.0 / (9.0 * ke)).powi(3));
+            if r <= MAX_INFLATION {
+                ratios.entry(key).or_default().push(r);
+                all.push(r);
+            }
+        }
+    }
+    fn median(v: &mut [f64]) -> f64 {
+        v.sort_by(f64::total_cmp);
+        let n = v.len();
+        if n % 2 == 1 {
+            v[n / 2]
+        } else {
+            0.5 * (v[n / 2 - 1] + v[n / 2])
+        }
+    }
+    let pooled = if all.len() >= MIN_INFLATION_PAIRS {
+        median(&mut all).max(1.0)
+    } else {
+        1.0
+    };
+    groups
+        .keys()
+        .map(|&(lo, hi)| {
+            let c = match ratios.get_mut(&(lo, hi)) {
+                Some(v) if v.len() >= MIN_INFLATION_PAIRS => median(v).max(1.0),
+                _ => pooled,
+            };
+            (lo, hi, c)
+        })
+        .collect()
 }
 
 /// `Q_{chi2, 2 k_eff}(sum_m * k_eff / k)`: the p-value of `k` summed 2-dof distances worth
@@ -196,8 +293,8 @@ mod tests {
 
     #[test]
     fn one_instant_pvalue_is_the_glr() {
-        for m in [0.0, 0.3, 2.0, 9.0, 40.0] {
-            let g = (-0.5 * m as f64).exp();
+        for m in [0.0f64, 0.3, 2.0, 9.0, 40.0] {
+            let g: f64 = (-0.5 * m).exp();
             let p = Combine::PValue.combine(&[g], &[m], &[0.0], 30.0);
             assert!((p - g).abs() < 1e-14 * g.max(1e-300), "{m}: {p} {g}");
             let s = Combine::Chi2.combine(&[g], &[m], &[0.0], 30.0);
@@ -224,6 +321,40 @@ mod tests {
             }
         }
         assert!((effective_instants(&t, tau) - 1e4 / s).abs() < 1e-9);
+    }
+
+    #[test]
+    fn inflation_is_the_median_of_the_mutual_best_pairs() {
+        // tracks 0..20 of source 0 and 20..40 of source 1; true pairs (i, 20 + i) with mean
+        // distance 2 c; each track also has a worse partner, and 4 of the true pairs are replaced
+        // by far pairs (ratio above the cap) that are mutually best too
+        let c = 1.7;
+        let ke: f64 = 50.0;
+        let wh = (1.0 - 1.0 / (9.0 * ke)).powi(3);
+        let mut source = vec![0u32; 20];
+        source.extend(vec![1u32; 20]);
+        let mut pairs = Vec::new();
+        let mut stats = Vec::new();
+        for i in 0..20u32 {
+            let spread = 1.0 + 0.01 * (i as f64 - 10.0);
+            let m_bar = if i < 4 { 200.0 } else { 2.0 * c * wh * spread };
+            pairs.push((i, 20 + i));
+            stats.push((m_bar * 100.0, 100.0, ke));
+            pairs.push((i, 20 + (i + 1) % 20));
+            stats.push((500.0 * 100.0, 100.0, ke));
+        }
+        let got = estimate_inflation(&pairs, &source, &stats);
+        assert_eq!(got.len(), 1);
+        assert_eq!((got[0].0, got[0].1), (0, 1));
+        assert!((got[0].2 - c * 1.015).abs() < 0.02, "{got:?}");
+        // consistent AOUs: never below 1
+        let stats1: Vec<_> = stats.iter().map(|&(s, k, e)| (s / 4.0, k, e)).collect();
+        assert_eq!(estimate_inflation(&pairs, &source, &stats1)[0].2, 1.0);
+        // too few pairs: 1
+        assert_eq!(
+            estimate_inflation(&pairs[..6], &source, &stats[..6])[0].2,
+            1.0
+        );
     }
 
     #[test]

@@ -57,6 +57,10 @@ pub struct Options {
     pub correlation_time: f64,
     /// Candidate index.
     pub index: IndexOptions,
+    /// Covariance inflation of the chi-square rules: `None` estimates one factor per pair of
+    /// sources from the data ([`combine::estimate_inflation`]); `Some(c)` divides every summed
+    /// distance by `c` (1: the AOUs as given).
+    pub inflation: Option<f64>,
 }
 
 impl Default for Options {
@@ -69,6 +73,7 @@ impl Default for Options {
             align: Alignment::default(),
             correlation_time: Self::DEFAULT_CORRELATION_TIME,
             index: IndexOptions::default(),
+            inflation: None,
         }
     }
 }
@@ -100,6 +105,11 @@ impl Options {
                 format!("must be >= 0, got {}", self.correlation_time),
             );
         }
+        if let Some(c) = self.inflation {
+            if !(c.is_finite() && c > 0.0) {
+                return bad("inflation", format!("must be finite and > 0, got {c}"));
+            }
+        }
         if self.index.window.is_nan() || self.index.window < 0.0 {
             return bad("window", format!("must be >= 0, got {}", self.index.window));
         }
@@ -119,6 +129,9 @@ pub struct Association {
     pub object: Vec<u32>,
     /// Number of candidate pairs from the index (including those without common instants).
     pub candidates: usize,
+    /// Covariance inflation used per pair of sources `(source_lo, source_hi, c)` (chi-square
+    /// rules only).
+    pub inflation: Vec<(u32, u32, f64)>,
 }
 
 fn mix(a: u32, b: u32, k: usize) -> u64 {
@@ -187,12 +200,46 @@ pub fn pair_instants(r: &Reports, a: usize, b: usize, o: &Options) -> PairInstan
     out
 }
 
-/// The combined score and the number of instants of tracks `a`, `b` (`NaN`, 0 without common
-/// instants).
-pub fn score_pair(r: &Reports, a: usize, b: usize, o: &Options) -> (f64, u32) {
+/// The summary of one scored pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairStat {
+    /// Combined score (`NaN` without common instants).
+    pub score: f64,
+    /// Number of common instants.
+    pub instants: u32,
+    /// Sum of the per-instant squared distances.
+    pub sum_m: f64,
+    /// Effective number of instants (see [`combine::effective_instants`]).
+    pub k_eff: f64,
+}
+
+/// Aligns, scores and combines tracks `a`, `b`.
+pub fn pair_stat(r: &Reports, a: usize, b: usize, o: &Options) -> PairStat {
     let p = pair_instants(r, a, b, o);
-    let s = o.combine.combine(&p.g, &p.m, &p.time, o.correlation_time);
-    (s, p.g.len() as u32)
+    let k_eff = combine::effective_instants(&p.time, o.correlation_time);
+    let sum_m: f64 = p.m.iter().sum();
+    let k = p.g.len();
+    let score = if k == 0 {
+        f64::NAN
+    } else if o.combine.is_chi2() {
+        o.combine
+            .from_summary(sum_m / o.inflation.unwrap_or(1.0), k as f64, k_eff)
+    } else {
+        o.combine.combine(&p.g, &p.m, &p.time, o.correlation_time)
+    };
+    PairStat {
+        score,
+        instants: k as u32,
+        sum_m,
+        k_eff,
+    }
+}
+
+/// The combined score and the number of instants of tracks `a`, `b` (`NaN`, 0 without common
+/// instants), with the inflation of `o` (1 when it is to be estimated).
+pub fn score_pair(r: &Reports, a: usize, b: usize, o: &Options) -> (f64, u32) {
+    let s = pair_stat(r, a, b, o);
+    (s.score, s.instants)
 }
 
 /// Candidate pairs of `r` (see [`candidates`]).
@@ -207,8 +254,14 @@ pub fn score_pairs(
     pairs: &[(u32, u32)],
     o: &Options,
     interrupt: Interrupt<'_>,
-) -> Result<Vec<(f64, u32)>> {
-    let mut out = vec![(f64::NAN, 0u32); pairs.len()];
+) -> Result<Vec<PairStat>> {
+    let empty = PairStat {
+        score: f64::NAN,
+        instants: 0,
+        sum_m: 0.0,
+        k_eff: 0.0,
+    };
+    let mut out = vec![empty; pairs.len()];
     let chunk = 1 << 14;
     for (c, block) in out.chunks_mut(chunk).enumerate() {
         if interrupt() {
@@ -217,7 +270,7 @@ pub fn score_pairs(
         let base = c * chunk;
         block.par_iter_mut().enumerate().for_each(|(k, slot)| {
             let (a, b) = pairs[base + k];
-            *slot = score_pair(r, a as usize, b as usize, o);
+            *slot = pair_stat(r, a as usize, b as usize, o);
         });
     }
     Ok(out)
@@ -233,15 +286,46 @@ pub fn associate(r: &Reports, o: &Options, interrupt: Interrupt<'_>) -> Result<A
         ..Association::default()
     };
     let mut kept = Vec::with_capacity(pairs.len());
-    for (&(a, b), &(s, k)) in pairs.iter().zip(&scored) {
-        if k == 0 {
+    let mut stats = Vec::with_capacity(pairs.len());
+    for (&(a, b), st) in pairs.iter().zip(&scored) {
+        if st.instants == 0 {
             continue;
         }
         res.a.push(a);
         res.b.push(b);
-        res.score.push(s);
-        res.instants.push(k);
+        res.score.push(st.score);
+        res.instants.push(st.instants);
         kept.push((a, b));
+        stats.push((st.sum_m, st.instants as f64, st.k_eff));
+    }
+    if o.combine.is_chi2() {
+        res.inflation = match o.inflation {
+            Some(c) => {
+                let mut groups: Vec<(u32, u32, f64)> = kept
+                    .iter()
+                    .map(|&(a, b)| {
+                        let (sa, sb) = (r.source[a as usize], r.source[b as usize]);
+                        (sa.min(sb), sa.max(sb), c)
+                    })
+                    .collect();
+                groups.sort_by_key(|x| (x.0, x.1));
+                groups.dedup_by(|x, y| (x.0, x.1) == (y.0, y.1));
+                groups
+            }
+            None => {
+                let inflation = combine::estimate_inflation(&kept, &r.source, &stats);
+                for (i, &(a, b)) in kept.iter().enumerate() {
+                    let (sa, sb) = (r.source[a as usize], r.source[b as usize]);
+                    let key = (sa.min(sb), sa.max(sb));
+                    let c = inflation
+                        .binary_search_by(|x| (x.0, x.1).cmp(&key))
+                        .map_or(1.0, |j| inflation[j].2);
+                    let (sum_m, k, k_eff) = stats[i];
+                    res.score[i] = o.combine.from_summary(sum_m / c, k, k_eff);
+                }
+                inflation
+            }
+        };
     }
     let tracks: Vec<assign::TrackInfo> = (0..r.n_tracks)
         .map(|t| {

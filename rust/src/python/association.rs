@@ -79,6 +79,7 @@ fn options(
     vertices: usize,
     samples: usize,
     seed: u64,
+    inflation: Option<f64>,
 ) -> PyResult<Options> {
     let spec = Score::from_name(
         score,
@@ -105,6 +106,7 @@ fn options(
             window,
             same_source,
         },
+        inflation,
     }
     .validated()?)
 }
@@ -114,7 +116,7 @@ fn options(
 #[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic, score="glr", combine="chi2",
     lower=0.5, upper=None, max_gap=300.0, horizon=0.0, process_noise=2.0, same_source=false,
     correlation_time=60.0, window=300.0, threshold=false, method="polygon", vertices=256,
-    samples=500, seed=0))]
+    samples=500, seed=0, inflation=None))]
 #[allow(clippy::too_many_arguments)]
 fn associate<'py>(
     py: Python<'py>,
@@ -139,6 +141,7 @@ fn associate<'py>(
     vertices: usize,
     samples: usize,
     seed: u64,
+    inflation: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let o = options(
         score,
@@ -156,6 +159,7 @@ fn associate<'py>(
         vertices,
         samples,
         seed,
+        inflation,
     )?;
     let (t, s, tm) = (
         slice1("track", &track)?,
@@ -181,6 +185,11 @@ fn associate<'py>(
     d.set_item("class", class.into_pyarray(py))?;
     d.set_item("object", res.object.into_pyarray(py))?;
     d.set_item("candidates", res.candidates)?;
+    let (ia, (ib, ic)): (Vec<u32>, (Vec<u32>, Vec<f64>)) =
+        res.inflation.iter().map(|&(a, b, c)| (a, (b, c))).unzip();
+    d.set_item("inflation_a", ia.into_pyarray(py))?;
+    d.set_item("inflation_b", ib.into_pyarray(py))?;
+    d.set_item("inflation", ic.into_pyarray(py))?;
     Ok(d)
 }
 
@@ -231,7 +240,7 @@ fn association_candidates<'py>(
 #[pyfunction]
 #[pyo3(signature = (track, source, time, aou, n_tracks, a, b, *, geographic, score="glr",
     combine="chi2", max_gap=300.0, horizon=0.0, process_noise=2.0, correlation_time=60.0,
-    threshold=false, method="polygon", vertices=256, samples=500, seed=0))]
+    threshold=false, method="polygon", vertices=256, samples=500, seed=0, inflation=1.0))]
 #[allow(clippy::too_many_arguments)]
 fn association_score_pairs<'py>(
     py: Python<'py>,
@@ -254,6 +263,7 @@ fn association_score_pairs<'py>(
     vertices: usize,
     samples: usize,
     seed: u64,
+    inflation: f64,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
     let r = reports(&track, &source, &time, &aou, n_tracks, geographic)?;
     let o = options(
@@ -272,6 +282,7 @@ fn association_score_pairs<'py>(
         vertices,
         samples,
         seed,
+        Some(inflation),
     )?;
     let (sa, sb) = (slice1("a", &a)?, slice1("b", &b)?);
     if sa.len() != sb.len() {
@@ -293,7 +304,7 @@ fn association_score_pairs<'py>(
     let out = detached(py, || {
         association::score_pairs(&r, &pairs, &o, &mut check_signals)
     })?;
-    let (s, k): (Vec<f64>, Vec<u32>) = out.into_iter().unzip();
+    let (s, k): (Vec<f64>, Vec<u32>) = out.into_iter().map(|p| (p.score, p.instants)).unzip();
     Ok((s.into_pyarray(py).into_any(), k.into_pyarray(py).into_any()))
 }
 

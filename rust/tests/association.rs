@@ -1,0 +1,279 @@
+//! Tests of the association pipeline with known answers: the space-time index against a brute
+//! force scan on random scenes, the index never missing a pair whose AOUs touch, one ship seen by
+//! two noisy sources against two ships passing at a safe distance, and geographic mode against
+//! planar mode after an exact projection.
+
+use geofeas::association::{
+    self, align, candidates, geodesy, local_pair, Alignment, Coords, IndexOptions, Options, Reports,
+};
+use geofeas::{relation, Relation};
+use proptest::prelude::*;
+use rand::{RngExt, SeedableRng};
+use rand_distr::{Distribution, Normal};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+/// A random scene: tracks of random walks in a `size` metre square, some with long gaps.
+fn scene(seed: u64, n_tracks: usize, size: f64, geo: Option<[f64; 2]>) -> Reports {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    let (mut track, mut source, mut time, mut aou) = (vec![], vec![], vec![], vec![]);
+    for t in 0..n_tracks {
+        let n = rng.random_range(1..15usize);
+        let mut tm = rng.random_range(0.0..2000.0);
+        let mut p = [rng.random_range(0.0..size), rng.random_range(0.0..size)];
+        let src = rng.random_range(0..3u32);
+        for _ in 0..n {
+            let r = rng.random_range(10.0..400.0);
+            let ry = r * rng.random_range(0.1..1.0);
+            let phi: f64 = rng.random_range(-3.2..3.2);
+            let row = match geo {
+                None => [p[0], p[1], r, ry, phi],
+                Some(c) => {
+                    let (q, _) = geodesy::offset(c, [p[0] - size / 2.0, p[1] - size / 2.0]);
+                    [q[0], q[1], r, ry, phi.to_degrees()]
+                }
+            };
+            track.push(t as u32);
+            source.push(src);
+            time.push(tm);
+            aou.push(row);
+            let dt = if rng.random_range(0.0..1.0) < 0.15 {
+                rng.random_range(300.0..900.0)
+            } else {
+                rng.random_range(1.0..120.0)
+            };
+            tm += dt;
+            p[0] += rng.random_range(-8.0..8.0) * dt;
+            p[1] += rng.random_range(-8.0..8.0) * dt;
+        }
+    }
+    let coords = if geo.is_some() {
+        Coords::Geographic
+    } else {
+        Coords::Planar
+    };
+    Reports::new(coords, n_tracks, &track, &source, &time, &aou).unwrap()
+}
+
+fn align_opts(horizon: f64) -> Alignment {
+    Alignment {
+        max_gap: 300.0,
+        horizon,
+        process_noise: 5.0,
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn index_returns_exactly_the_brute_force_pairs(
+        seed in 0u64..1_000_000,
+        n in 2usize..60,
+        window in prop_oneof![Just(0.0), 30.0..600.0f64],
+        horizon in prop_oneof![Just(0.0), 1.0..120.0f64],
+        same_source in any::<bool>(),
+        geo in prop_oneof![
+            Just(None),
+            Just(Some([50.8, -1.1])),
+            Just(Some([12.0, 179.97])),
+            Just(Some([80.0, 20.0]))
+        ],
+    ) {
+        let r = scene(seed, n, 20_000.0, geo);
+        let a = align_opts(horizon);
+        let o = IndexOptions { window, same_source };
+        let chunks = candidates::chunks(&r, &a, &o);
+        let fast = candidates::candidate_pairs(&r, &chunks, &o);
+        let slow = candidates::brute_force_pairs(&r, &chunks, &o);
+        prop_assert_eq!(fast, slow);
+    }
+
+    #[test]
+    fn index_never_misses_a_pair_whose_aous_touch(
+        seed in 0u64..1_000_000,
+        n in 2usize..40,
+        horizon in prop_oneof![Just(0.0), 1.0..120.0f64],
+        geo in prop_oneof![Just(None), Just(Some([-33.0, 179.99])), Just(Some([80.0, -60.0]))],
+    ) {
+        let r = scene(seed, n, 6_000.0, geo);
+        let a = align_opts(horizon);
+        let o = IndexOptions { window: 200.0, same_source: true };
+        let chunks = candidates::chunks(&r, &a, &o);
+        let found = candidates::candidate_pairs(&r, &chunks, &o);
+        for ta in 0..n {
+            for tb in ta + 1..n {
+                let touching = align::common_instants(&r, ta, tb, &a).iter().any(|i| {
+                    let (ea, eb) = local_pair(r.coords, &i.a, &i.b);
+                    relation(&ea, &eb) != Relation::Disjoint
+                });
+                if touching {
+                    prop_assert!(
+                        found.binary_search(&(ta as u32, tb as u32)).is_ok(),
+                        "pair ({}, {}) touches but is not a candidate", ta, tb
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Columns of reports being built: track, source, time, AOU rows.
+type Columns = (Vec<u32>, Vec<u32>, Vec<f64>, Vec<[f64; 5]>);
+
+/// Reports of a ship on a straight line seen by a source with noise `sigma` every `dt` seconds.
+#[allow(clippy::too_many_arguments)]
+fn observe(
+    rng: &mut Xoshiro256PlusPlus,
+    track: u32,
+    src: u32,
+    start: [f64; 2],
+    v: [f64; 2],
+    dt: f64,
+    sigma: f64,
+    out: &mut Columns,
+) {
+    let noise = Normal::new(0.0, sigma).unwrap();
+    let offset = rng.random_range(0.0..dt);
+    let mut t = offset;
+    while t < 1200.0 {
+        out.0.push(track);
+        out.1.push(src);
+        out.2.push(t);
+        out.3.push([
+            start[0] + v[0] * t + noise.sample(rng),
+            start[1] + v[1] * t + noise.sample(rng),
+            2.0 * sigma,
+            2.0 * sigma,
+            0.0,
+        ]);
+        t += dt;
+    }
+}
+
+#[test]
+fn one_ship_two_sources_scores_higher_than_two_ships_passing() {
+    let mut wins = 0;
+    for seed in 0..20u64 {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        let mut d = (vec![], vec![], vec![], vec![]);
+        // ship 0 seen by AIS (track 0) and radar (track 1); ship 1 passes ship 0 head-on
+        // 400 m abeam (radar AOU 2-sigma 100 m, AIS 30 m: a safe distance)
+        observe(&mut rng, 0, 0, [0.0, 0.0], [6.0, 0.0], 10.0, 15.0, &mut d);
+        observe(&mut rng, 1, 1, [0.0, 0.0], [6.0, 0.0], 3.0, 50.0, &mut d);
+        observe(
+            &mut rng,
+            2,
+            1,
+            [7200.0, 400.0],
+            [-6.0, 0.0],
+            3.0,
+            50.0,
+            &mut d,
+        );
+        let r = Reports::new(Coords::Planar, 3, &d.0, &d.1, &d.2, &d.3).unwrap();
+        let o = Options {
+            index: IndexOptions {
+                window: 300.0,
+                same_source: false,
+            },
+            ..Options::default()
+        };
+        let (same, k_same) = association::score_pair(&r, 0, 1, &o);
+        let (other, k_other) = association::score_pair(&r, 0, 2, &o);
+        assert!(k_same > 100 && k_other > 100);
+        assert!(same > other, "seed {seed}: {same} <= {other}");
+        if same >= o.upper && other < o.lower {
+            wins += 1;
+        }
+        for combine in association::combine::COMBINE_NAMES {
+            let o = Options {
+                combine: association::Combine::from_name(combine).unwrap(),
+                ..o.clone()
+            };
+            let (s, _) = association::score_pair(&r, 0, 1, &o);
+            let (t, _) = association::score_pair(&r, 0, 2, &o);
+            assert!(s > t, "seed {seed} {combine}: {s} <= {t}");
+        }
+        let res = association::associate(&r, &o, &mut || false).unwrap();
+        assert_eq!(res.object[0], res.object[1]);
+        assert_ne!(res.object[0], res.object[2]);
+    }
+    // consistent covariances: a true pair falls below the match threshold with probability
+    // 13.5 %, so 20 seeds with at most 8 failures is a loose binomial bound (P < 1e-3)
+    assert!(wins >= 12, "{wins}");
+}
+
+#[test]
+fn geographic_agrees_with_planar_after_an_exact_projection() {
+    // a planar scene (metres around the origin) and its image by the exact azimuthal-equidistant
+    // projection centred at `c` (geodesic of length |p| and azimuth atan2(x, y), bearings
+    // carried along the geodesic)
+    for c in [[0.0, 179.995], [80.0, 45.0], [-80.0, -179.99], [50.8, -1.1]] {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);
+        let mut d = (vec![], vec![], vec![], vec![]);
+        observe(
+            &mut rng,
+            0,
+            0,
+            [-2000.0, -300.0],
+            [4.0, 0.5],
+            10.0,
+            15.0,
+            &mut d,
+        );
+        observe(
+            &mut rng,
+            1,
+            1,
+            [-2000.0, -300.0],
+            [4.0, 0.5],
+            4.0,
+            40.0,
+            &mut d,
+        );
+        observe(
+            &mut rng,
+            2,
+            1,
+            [2000.0, 200.0],
+            [-3.0, 0.0],
+            6.0,
+            300.0,
+            &mut d,
+        );
+        for row in d.3.iter_mut() {
+            row[4] = rng.random_range(0.0..3.0);
+            row[3] = row[2] * 0.5;
+        }
+        let planar = Reports::new(Coords::Planar, 3, &d.0, &d.1, &d.2, &d.3).unwrap();
+        let geo_rows: Vec<[f64; 5]> =
+            d.3.iter()
+                .map(|&[x, y, rx, ry, phi]| {
+                    let (q, rot) = geodesy::offset(c, [x, y]);
+                    [q[0], q[1], rx, ry, (phi + rot).to_degrees()]
+                })
+                .collect();
+        let geo = Reports::new(Coords::Geographic, 3, &d.0, &d.1, &d.2, &geo_rows).unwrap();
+        let o = Options {
+            combine: association::Combine::Geometric,
+            align: Alignment {
+                process_noise: 0.0,
+                ..Alignment::default()
+            },
+            ..Options::default()
+        };
+        for (a, b) in [(0, 1), (0, 2), (1, 2)] {
+            let pp = association::pair_instants(&planar, a, b, &o);
+            let pg = association::pair_instants(&geo, a, b, &o);
+            assert_eq!(pp.m.len(), pg.m.len());
+            for (k, (mp, mg)) in pp.m.iter().zip(&pg.m).enumerate() {
+                // the scene spans about 5 km: the projection's distortion away from its centre
+                // is (5 km / 6400 km)^2 / 6 ~ 1e-7 relative
+                assert!(
+                    (mp - mg).abs() <= 1e-6 * mp.max(1.0),
+                    "{c:?} pair ({a}, {b}) instant {k}: planar {mp} geographic {mg}"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,616 @@
+"""Track-to-track association: reading and validating reports, time alignment against the NumPy
+reference, the combination rules and their calibration, the candidate index against brute force,
+geographic against planar mode, triage and grouping, and the ``geofeas associate`` CLI."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+from reference_association import effective_instants, pair_distances
+from scipy import stats
+from scipy.optimize import linear_sum_assignment
+from scipy.special import gammaincc
+
+import geofeas
+from geofeas import _core
+from geofeas.association import DEFAULT_UPPER
+from geofeas.cli import main
+
+# ---------------------------------------------------------------------------------------------
+# scenes
+
+
+def straight_track(rng, track_id, source, start, velocity, dt, sigma, duration=600.0, t0=0.0):
+    """Reports of a ship on a straight line seen every ``dt`` s with noise ``sigma`` (m), its
+    AOU the consistent 2-sigma circle."""
+    t = t0 + rng.uniform(0, dt) + np.arange(0.0, duration, dt)
+    t = t[t < t0 + duration]
+    x = start[0] + velocity[0] * (t - t0) + rng.normal(0, sigma, t.size)
+    y = start[1] + velocity[1] * (t - t0) + rng.normal(0, sigma, t.size)
+    return pd.DataFrame(
+        {
+            "track_id": track_id,
+            "source": source,
+            "time": t,
+            "x": x,
+            "y": y,
+            "rx": 2 * sigma,
+            "ry": 2 * sigma,
+            "phi": 0.0,
+        }
+    )
+
+
+def track_arrays(frame, track_id):
+    sub = frame[frame.track_id == track_id].sort_values("time")
+    return sub.time.to_numpy(), sub[["x", "y", "rx", "ry", "phi"]].to_numpy()
+
+
+# ---------------------------------------------------------------------------------------------
+# reading and validation
+
+
+def test_read_reports_planar_with_extra_columns(tmp_path, rng):
+    df = straight_track(rng, "A", "ais", (0, 0), (5, 0), 10, 10).assign(mmsi=123)
+    path = tmp_path / "r.csv"
+    df.to_csv(path, index=False)
+    rep = geofeas.read_reports(path)
+    assert rep.coords == "planar" and len(rep) == len(df) and rep.n_tracks == 1
+    assert "mmsi" in rep.frame.columns
+    np.testing.assert_allclose(rep.aou[:, 0], df.x.to_numpy())
+    df.to_parquet(tmp_path / "r.parquet")
+    rep2 = geofeas.read_reports(tmp_path / "r.parquet")
+    np.testing.assert_array_equal(rep2.aou, rep.aou)
+    rep3 = geofeas.read_reports({c: df[c].to_numpy() for c in df.columns})
+    np.testing.assert_array_equal(rep3.time, rep.time)
+    rep4 = geofeas.read_reports(df.to_records(index=False))
+    np.testing.assert_array_equal(rep4.aou, rep.aou)
+
+
+def test_iso_times_and_geographic_columns():
+    df = pd.DataFrame(
+        {
+            "track_id": [1, 1, 2],
+            "source": ["ais", "ais", "radar"],
+            "time": ["2016-01-12T13:02:11Z", "2016-01-12 13:02:21.5", "2016-01-12T14:02:11+01:00"],
+            "lat": [50.8, 50.801, 50.8],
+            "lon": [-1.1, -1.1, -1.1001],
+            "rx": [20.0, 20.0, 100.0],
+            "ry": [10.0, 10.0, 50.0],
+            "bearing": [0.0, 30.0, 90.0],
+        }
+    )
+    rep = geofeas.read_reports(df)
+    assert rep.coords == "geographic"
+    t0 = pd.Timestamp("2016-01-12T13:02:11Z").timestamp()
+    np.testing.assert_allclose(rep.time, [t0, t0 + 10.5, t0], rtol=0, atol=1e-6)
+
+
+def test_ids_keep_their_type_and_order():
+    base = dict(
+        source=["a", "b", "c"], time=[0.0, 0.0, 0.0], x=0.0, y=0.0, rx=10.0, ry=10.0, phi=0.0
+    )
+    res = geofeas.associate(pd.DataFrame(dict(base, track_id=["9", "10", "x"])))
+    # string order: "10" < "9" < "x"
+    assert list(res.pairs.track_a) == ["10", "10", "9"]
+    assert list(res.pairs.track_b) == ["9", "x", "x"]
+    res = geofeas.associate(pd.DataFrame(dict(base, track_id=[9, 10, 11])))
+    assert list(zip(res.pairs.track_a, res.pairs.track_b, strict=True)) == [
+        (9, 10),
+        (9, 11),
+        (10, 11),
+    ]
+    assert (res.pairs.track_a < res.pairs.track_b).all()
+
+
+CSV_HEADER = "track_id,source,time,x,y,rx,ry,phi\n"
+
+
+@pytest.mark.parametrize(
+    ("body", "message"),
+    [
+        ("A,s,0,0,0,10,10,0\nA,s,1,zero,0,10,10,0\n", "line 3: column x: 'zero' is not a number"),
+        ("A,s,0,0,0,10,10,0\nA,s,1,0,0,10,-1,0\n", "line 3: column ry"),
+        ("A,s,0,0,0,10,10,0\nA,s,1,0,0,,10,0\n", "line 3: column rx: missing value"),
+        ("A,s,0,0,0,10,10,0\nA,s,1,0,0,inf,10,0\n", "line 3: column rx"),
+        ("A,s,0,0,0,10,10,0\nA,s,yesterday,0,0,10,10,0\n", "line 3: column time"),
+        ("A,s,0,0,0,10,10,0\nA,s,0,5,0,10,10,0\n", "line 3: track 'A' already has a report"),
+        ("A,s,0,0,0,10,10,0\nA,t,1,5,0,10,10,0\n", "line 3: track 'A' has source 't'"),
+        ("A,s,0,0,0,10,10,0\nA,s,1,5,0,10,10,0,9\n", "line 3"),
+        ("A,s,0,0,0,10,10,0\n\nA,s,1,5,0,10,10,0\n", "line 3: column track_id: missing value"),
+    ],
+)
+def test_malformed_files_name_the_line(tmp_path, body, message):
+    path = tmp_path / "bad.csv"
+    path.write_text(CSV_HEADER + body)
+    with pytest.raises(geofeas.GeofeasError, match=message.replace("(", r"\(")):
+        geofeas.read_reports(path)
+    assert main(["associate", str(path), "--out", str(tmp_path / "o.csv")]) == 2
+
+
+def test_table_errors_name_the_row():
+    df = pd.DataFrame(
+        dict(
+            track_id=["a", "b", "c"],
+            source="s",
+            time=[0.0, 1.0, 2.0],
+            lat=[0.0, 91.0, 0.0],
+            lon=0.0,
+            rx=1.0,
+            ry=1.0,
+            bearing=0.0,
+        )
+    )
+    with pytest.raises(geofeas.GeofeasError, match=r"row 1: column lat"):
+        geofeas.read_reports(df)
+    with pytest.raises(geofeas.GeofeasError, match="missing column"):
+        geofeas.read_reports(df.drop(columns="source"))
+    with pytest.raises(geofeas.GeofeasError, match="both planar"):
+        geofeas.read_reports(df.assign(x=0.0, y=0.0, phi=0.0))
+    with pytest.raises(geofeas.GeofeasError, match="row 1: column track_id"):
+        geofeas.read_reports(df.assign(track_id=pd.Series(["a", 2, "c"], dtype=object)))
+    with pytest.raises(geofeas.GeofeasError, match="unknown file type"):
+        geofeas.read_reports("reports.txt")
+    with pytest.raises(geofeas.GeofeasError, match="combine"):
+        geofeas.associate(df.assign(lat=0.0), combine="median")
+    with pytest.raises(geofeas.GeofeasError, match="upper"):
+        geofeas.associate(df.assign(lat=0.0), upper=0.2)
+    with pytest.raises(TypeError, match="unexpected"):
+        geofeas.associate(df.assign(lat=0.0), sample=3)
+
+
+# ---------------------------------------------------------------------------------------------
+# alignment and scores against the NumPy reference
+
+
+def _scores(frame, a, b, **kw):
+    rep = geofeas.read_reports(frame)
+    ids = list(rep.track_ids)
+    ia = np.array([ids.index(a)], dtype=np.uint32)
+    ib = np.array([ids.index(b)], dtype=np.uint32)
+    s, k = _core.association_score_pairs(*rep._core_args(), ia, ib, geographic=False, **kw)
+    return float(s[0]), int(k[0])
+
+
+def test_interpolation_exact_for_linear_motion(rng):
+    # noise-free reports of one straight-line ship at unrelated times: every interpolated
+    # centre is exact, so every distance is 0 and every rule gives 1
+    a = straight_track(rng, "A", "ais", (100, -50), (4.0, 3.0), 10.0, 1.0)
+    b = straight_track(rng, "B", "radar", (100, -50), (4.0, 3.0), 3.7, 1.0)
+    for df in (a, b):
+        df["x"] = 100 + 4.0 * df.time
+        df["y"] = -50 + 3.0 * df.time
+    frame = pd.concat([a, b])
+    for rule in ("geometric", "pvalue", "chi2", "min"):
+        s, k = _scores(frame, "A", "B", combine=rule, process_noise=0.0)
+        assert k > 200
+        assert s == pytest.approx(1.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("horizon", [0.0, 20.0])
+def test_distances_match_the_numpy_reference(rng, horizon):
+    a = straight_track(rng, "A", "ais", (0, 0), (6, 1), 10.0, 15.0, duration=900)
+    b = straight_track(rng, "B", "radar", (30, 0), (6, 1.2), 4.0, 40.0, duration=500, t0=200)
+    # a long gap in A (not interpolated) and elongated, rotated AOUs
+    a = a[(a.time < 400) | (a.time > 750)].copy()
+    a["ry"] = a.rx * 0.4
+    a["phi"] = rng.uniform(0, np.pi, len(a))
+    frame = pd.concat([a, b])
+    ta, ra = track_arrays(frame, "A")
+    tb, rb = track_arrays(frame, "B")
+    q = 3.0
+    times, m = pair_distances(ta, ra, tb, rb, max_gap=300.0, horizon=horizon, q=q)
+    kw = dict(process_noise=q, horizon=horizon, max_gap=300.0)
+    g, k = _scores(frame, "A", "B", combine="geometric", **kw)
+    assert k == len(m) > 50
+    assert -2 * math.log(g) * k == pytest.approx(m.sum(), rel=1e-9)
+    p, _ = _scores(frame, "A", "B", combine="pvalue", correlation_time=0.0, **kw)
+    assert p == pytest.approx(stats.chi2.sf(m.sum(), 2 * k), rel=1e-8, abs=1e-300)
+    tau = 45.0
+    keff = effective_instants(times, tau)
+    p, _ = _scores(frame, "A", "B", combine="pvalue", correlation_time=tau, **kw)
+    assert p == pytest.approx(gammaincc(keff, 0.5 * m.sum() * keff / k), rel=1e-8)
+    mn, _ = _scores(frame, "A", "B", combine="min", **kw)
+    assert mn == pytest.approx(np.exp(-0.5 * m.max()), rel=1e-9)
+
+
+# ---------------------------------------------------------------------------------------------
+# combination rules
+
+
+def test_combination_rules_hand_computed():
+    g = [0.5, 0.25, 1.0]
+    # geometric (1/8)^(1/3) = 1/2; harmonic 3 / (2 + 4 + 1); arithmetic 1.75 / 3; min 1/4
+    assert geofeas.combine_instants(g, rule="geometric") == pytest.approx(0.5, rel=1e-15)
+    assert geofeas.combine_instants(g, rule="harmonic") == pytest.approx(3 / 7, rel=1e-15)
+    assert geofeas.combine_instants(g, rule="arithmetic") == pytest.approx(1.75 / 3, rel=1e-15)
+    assert geofeas.combine_instants(g, rule="min") == 0.25
+    # sum of m = 6 ln 2 on 6 degrees of freedom: e^-x (1 + x + x^2 / 2), x = 3 ln 2
+    x = 3 * math.log(2)
+    p = math.exp(-x) * (1 + x + x * x / 2)
+    assert geofeas.combine_instants(g, rule="pvalue") == pytest.approx(p, rel=1e-13)
+    # the operator scale: 2^(-m_eq / 9) with m_eq = -2 ln p
+    assert geofeas.combine_instants(g, rule="chi2") == pytest.approx(
+        2 ** (2 * math.log(p) / 9), rel=1e-13
+    )
+    # one instant: the p-value is the GLR, and 3 sigma (m = 9) is the 0.5 borderline
+    assert geofeas.combine_instants([math.exp(-4.5)], rule="pvalue") == pytest.approx(
+        math.exp(-4.5), rel=1e-13
+    )
+    assert geofeas.combine_instants([math.exp(-4.5)], rule="chi2") == pytest.approx(0.5)
+    assert DEFAULT_UPPER == pytest.approx(2 ** (-4 / 9))
+    # a zero instant zeroes the product-like rules but not the arithmetic mean
+    assert geofeas.combine_instants([0.0, 1.0], rule="chi2") == 0.0
+    assert geofeas.combine_instants([0.0, 1.0], rule="harmonic") == 0.0
+    assert geofeas.combine_instants([0.0, 1.0], rule="arithmetic") == 0.5
+
+
+def _simulated_true_pairs(rng, k, n):
+    """``n`` true pairs of ``k`` independent instants: per-instant m ~ chi2_2."""
+    m = rng.chisquare(2, size=(n, k))
+    g = np.exp(-0.5 * m)
+    offsets = np.arange(0, n * k + 1, k, dtype=np.uint64)
+    t = np.tile(np.arange(k, dtype=np.float64), n)
+    return g.ravel(), m.ravel(), t, offsets
+
+
+@pytest.mark.parametrize("k", [1, 2, 5, 20, 100])
+def test_calibrated_default_is_stable_in_the_number_of_instants(rng, k):
+    n = 4000
+    g, m, t, off = _simulated_true_pairs(rng, k, n)
+    p = _core.combine_instants(g, m, t, off, "pvalue")
+    assert stats.kstest(p, "uniform").pvalue > 1e-3
+    s = _core.combine_instants(g, m, t, off, "chi2")
+    # P(score < x) = x^(4.5 / ln 2) for every k
+    assert stats.kstest(s ** (4.5 / math.log(2)), "uniform").pvalue > 1e-3
+    assert np.mean(s < 0.5) == pytest.approx(math.exp(-4.5), abs=0.006)
+    geo = _core.combine_instants(g, m, t, off, "geometric")
+    if k >= 20:
+        # the raw geometric mean of a true pair drifts to 1/e: far from uniform
+        assert abs(np.median(geo) - math.exp(-1)) < 0.05
+        assert stats.kstest(geo, "uniform").pvalue < 1e-10
+
+
+def test_effective_instants_correct_for_correlated_errors(rng):
+    # AR(1) errors with correlation exp(-dt / tau) at 1 s steps: the sum of the distances is
+    # over-dispersed, and the effective number of instants restores the calibration
+    tau, k, n = 20.0, 100, 3000
+    a = math.exp(-1 / tau)
+    e = np.empty((n, k, 2))
+    e[:, 0] = rng.normal(size=(n, 2))
+    for j in range(1, k):
+        e[:, j] = a * e[:, j - 1] + math.sqrt(1 - a * a) * rng.normal(size=(n, 2))
+    m = (e**2).sum(-1).ravel()
+    g = np.exp(-0.5 * m)
+    t = np.tile(np.arange(k, dtype=np.float64), n)
+    off = np.arange(0, n * k + 1, k, dtype=np.uint64)
+    naive = _core.combine_instants(g, m, t, off, "pvalue", correlation_time=0.0)
+    fixed = _core.combine_instants(g, m, t, off, "pvalue", correlation_time=tau)
+    assert np.mean(naive < 0.05) > 0.15  # far too many true pairs rejected
+    assert np.mean(fixed < 0.05) == pytest.approx(0.05, abs=0.02)
+    assert np.mean(fixed < 0.5) == pytest.approx(0.5, abs=0.05)
+
+
+# ---------------------------------------------------------------------------------------------
+# known answers on scenes
+
+
+def test_one_ship_two_sources_beats_two_ships_passing(rng):
+    wins = 0
+    for _ in range(10):
+        frame = pd.concat(
+            [
+                straight_track(rng, "ais-1", "ais", (0, 0), (6, 0), 10, 15),
+                straight_track(rng, "radar-1", "radar", (0, 0), (6, 0), 3, 50),
+                # another ship passing head-on 400 m abeam
+                straight_track(rng, "radar-2", "radar", (3600, 400), (-6, 0), 3, 50),
+            ]
+        )
+        res = geofeas.associate(frame)
+        p = res.pairs.set_index(["track_a", "track_b"])
+        same = p.loc[("ais-1", "radar-1"), "score"]
+        other = p.loc[("ais-1", "radar-2"), "score"] if ("ais-1", "radar-2") in p.index else 0.0
+        assert same > other
+        wins += p.loc[("ais-1", "radar-1"), "class"] == "match" and other < 0.5
+    assert wins >= 6  # 13.5 % of consistent true pairs fall below the match threshold
+
+
+def test_renumbered_tracks_form_one_object_and_overlaps_are_refused(rng):
+    frame = pd.concat(
+        [
+            straight_track(rng, "ais", "ais", (0, 0), (5, 0), 10, 10, duration=1200),
+            # the radar drops the ship at 500 s and picks it up again as a new track
+            straight_track(rng, "r1", "radar", (0, 0), (5, 0), 3, 30, duration=500),
+            straight_track(rng, "r2", "radar", (3000, 0), (5, 0), 3, 30, duration=600, t0=600),
+        ]
+    )
+    # a second radar track on the same ship at the same time (a split track): the object may not
+    # hold it together with r1
+    dup = straight_track(rng, "r3", "radar", (500, 0), (5, 0), 3, 30, duration=300, t0=100)
+    res = geofeas.associate(pd.concat([frame, dup]))
+    obj = res.objects.set_index("track_id")["object"]
+    assert obj["ais"] == obj["r2"]
+    assert obj["ais"] == obj["r1"] or obj["ais"] == obj["r3"]
+    assert obj["r1"] != obj["r3"]
+    cls = res.pairs.set_index(["track_a", "track_b"])["class"]
+    demoted = [p for p in (("ais", "r1"), ("ais", "r3")) if cls[p] != "match"]
+    assert len(demoted) == 1
+    assert cls[demoted[0]] == "borderline"
+
+
+def test_one_to_one_assignment_matches_scipy(rng):
+    for _ in range(20):
+        na, nb = rng.integers(2, 7, size=2)
+        dense = rng.uniform(0, 1, size=(na, nb)) * (rng.uniform(size=(na, nb)) < 0.6)
+        ia, ib = np.nonzero(dense)
+        chosen = _core.assign_one_to_one(
+            ia.astype(np.uint32), (100 + ib).astype(np.uint32), dense[ia, ib], min_score=0.0
+        )
+        total = dense[ia[chosen], ib[chosen]].sum()
+        r, c = linear_sum_assignment(dense, maximize=True)
+        assert total == pytest.approx(dense[r, c].sum(), rel=1e-12)
+        assert len(set(ia[chosen])) == len(chosen) == len(set(ib[chosen]))
+
+
+def _random_scene(rng, n_tracks, size, geographic=False):
+    rows = []
+    for t in range(n_tracks):
+        n = int(rng.integers(1, 12))
+        times = rng.uniform(0, 1500) + np.cumsum(rng.uniform(1, 200, n))
+        p = rng.uniform(0, size, 2) + np.cumsum(rng.normal(0, 300, (n, 2)), axis=0)
+        r = rng.uniform(10, 400, n)
+        rows.append(
+            pd.DataFrame(
+                dict(
+                    track_id=t,
+                    source=int(rng.integers(0, 3)),
+                    time=times,
+                    x=p[:, 0],
+                    y=p[:, 1],
+                    rx=r,
+                    ry=r * rng.uniform(0.1, 1, n),
+                    phi=rng.uniform(0, 6.3, n),
+                )
+            )
+        )
+    return pd.concat(rows)
+
+
+@pytest.mark.parametrize("same_source", [False, True])
+def test_index_returns_exactly_the_brute_force_pairs(rng, same_source):
+    found = 0
+    for _ in range(10):
+        rep = geofeas.read_reports(_random_scene(rng, int(rng.integers(5, 80)), 20_000))
+        kw = dict(geographic=False, same_source=same_source, horizon=30.0, window=120.0)
+        fast = _core.association_candidates(*rep._core_args(), **kw)
+        slow = _core.association_candidates(*rep._core_args(), brute_force=True, **kw)
+        np.testing.assert_array_equal(fast[0], slow[0])
+        np.testing.assert_array_equal(fast[1], slow[1])
+        found += len(fast[0])
+    assert found > 20
+
+
+# ---------------------------------------------------------------------------------------------
+# geographic mode
+
+
+@pytest.mark.parametrize("centre", [(0.0, 179.99), (80.0, 10.0), (-80.0, -179.995), (50.8, -1.1)])
+def test_geographic_agrees_with_planar_after_an_exact_projection(rng, centre):
+    from geographiclib.geodesic import Geodesic
+
+    geod = Geodesic.WGS84
+    frame = pd.concat(
+        [
+            straight_track(rng, "a", "ais", (-1500, -200), (5, 0.5), 10, 15),
+            straight_track(rng, "b", "radar", (-1500, -200), (5, 0.5), 4, 40),
+            straight_track(rng, "c", "radar", (1500, 300), (-4, 0), 5, 200),
+        ]
+    ).reset_index(drop=True)
+    frame["ry"] = frame.rx * 0.6
+    frame["phi"] = rng.uniform(0, np.pi, len(frame))
+    # the exact azimuthal-equidistant projection centred on `centre`, inverted point by point:
+    # the geodesic of azimuth atan2(x, y) and length |(x, y)|; bearings turn by the meridian
+    # convergence azi2 - azi1 along it
+    lat, lon, bearing = [], [], []
+    for x, y, phi in zip(frame.x, frame.y, frame.phi, strict=True):
+        azi1 = math.degrees(math.atan2(x, y))
+        g = geod.Direct(centre[0], centre[1], azi1, math.hypot(x, y))
+        lat.append(g["lat2"])
+        lon.append(g["lon2"])
+        bearing.append(math.degrees(phi) + g["azi2"] - azi1)
+    geo = frame.drop(columns=["x", "y", "phi"]).assign(lat=lat, lon=lon, bearing=bearing)
+    kw = dict(combine="pvalue", correlation_time=0.0, process_noise=0.0)
+    planar = geofeas.associate(frame, **kw).pairs
+    spherical = geofeas.associate(geo, **kw).pairs
+    assert len(planar) == len(spherical) >= 2
+    np.testing.assert_array_equal(planar.track_a, spherical.track_a)
+    np.testing.assert_array_equal(planar.track_b, spherical.track_b)
+    np.testing.assert_array_equal(planar.instants, spherical.instants)
+    # the pair of one ship has p-values of order 0.1-1; the other pairs tiny ones: compare the
+    # summed distances, -2 log of the geometric mean
+    kw["combine"] = "geometric"
+    gp = geofeas.associate(frame, **kw).pairs.score.to_numpy()
+    gs = geofeas.associate(geo, **kw).pairs.score.to_numpy()
+    np.testing.assert_allclose(np.log(gs), np.log(gp), rtol=1e-6)
+    np.testing.assert_allclose(spherical.score, planar.score, rtol=1e-5, atol=1e-12)
+
+
+# ---------------------------------------------------------------------------------------------
+# CLI and file contract
+
+
+def test_cli_associate_csv_and_parquet(tmp_path, rng):
+    frame = pd.concat(
+        [
+            straight_track(rng, "A1", "ais", (0, 0), (6, 0), 10, 15),
+            straight_track(rng, "R1", "radar", (0, 0), (6, 0), 3, 50),
+            straight_track(rng, "R2", "radar", (0, 300), (6, 0), 3, 50),
+        ]
+    ).assign(comment="extra")
+    frame["time"] = pd.Timestamp("2024-05-01T10:00:00Z") + pd.to_timedelta(frame.time, unit="s")
+    frame["time"] = frame.time.dt.strftime("%Y-%m-%dT%H:%M:%S.%fZ")
+    src = tmp_path / "reports.csv"
+    frame.to_csv(src, index=False)
+    out = tmp_path / "pairs.csv"
+    assert (
+        main(["associate", str(src), "--out", str(out), "--objects", str(tmp_path / "o.csv"), "-q"])
+        == 0
+    )
+    pairs = pd.read_csv(out)
+    assert list(pairs.columns) == ["track_a", "track_b", "score", "instants", "class"]
+    assert set(pairs["class"]) <= {"match", "borderline", "non-match"}
+    assert (pairs.track_a < pairs.track_b).all()
+    api = geofeas.associate(src).pairs
+    np.testing.assert_allclose(pairs.score, api.score, rtol=1e-12)
+    frame.to_parquet(tmp_path / "reports.parquet")
+    out2 = tmp_path / "pairs.parquet"
+    assert (
+        main(
+            [
+                "associate",
+                str(tmp_path / "reports.parquet"),
+                "--out",
+                str(out2),
+                "--score",
+                "glr_threshold",
+                "--combine",
+                "geometric",
+                "-q",
+            ]
+        )
+        == 0
+    )
+    p2 = pd.read_parquet(out2)
+    assert list(p2.columns) == list(pairs.columns) and len(p2) == len(pairs)
+    assert (
+        main(
+            [
+                "associate",
+                str(src),
+                "--out",
+                str(tmp_path / "x.csv"),
+                "--score",
+                "overlap",
+                "--vertices",
+                "32",
+                "-q",
+            ]
+        )
+        == 0
+    )
+
+
+@pytest.mark.parametrize(
+    ("a", "b"),
+    [
+        ((10.0, 179.5), (10.9, -179.6)),
+        ((80.0, 10.0), (80.8, 16.0)),
+        ((-79.5, -179.8), (-80.4, 178.9)),
+    ],
+)
+def test_large_geographic_aous_match_the_geodesic_frame(a, b):
+    # two 100 km AOUs some 100-150 km apart, across the antimeridian or near 80 degrees: the
+    # single-instant GLR is that of the planar pair built from the geodesic between the centres
+    # (Python geographiclib): B at s12 (sin azi1, cos azi1), its bearing turned by azi1 - azi2
+    from geographiclib.geodesic import Geodesic
+
+    import reference
+
+    inv = Geodesic.WGS84.Inverse(a[0], a[1], b[0], b[1])
+    s12, azi1, azi2 = inv["s12"], inv["azi1"], inv["azi2"]
+    assert 50e3 < s12 < 200e3
+    ea = np.array([0.0, 0.0, 100e3, 60e3, math.radians(30.0)])
+    eb = np.array(
+        [
+            s12 * math.sin(math.radians(azi1)),
+            s12 * math.cos(math.radians(azi1)),
+            80e3,
+            50e3,
+            math.radians(110.0 + azi1 - azi2),
+        ]
+    )
+    want = reference.glr(ea, eb)[0]
+    frame = pd.DataFrame(
+        dict(
+            track_id=["a", "b"],
+            source=["s1", "s2"],
+            time=[0.0, 0.0],
+            lat=[a[0], b[0]],
+            lon=[a[1], b[1]],
+            rx=[100e3, 80e3],
+            ry=[60e3, 50e3],
+            bearing=[30.0, 110.0],
+        )
+    )
+    got = geofeas.associate(frame, combine="pvalue").pairs
+    assert got.instants[0] == 1
+    assert got.score[0] == pytest.approx(want, rel=1e-9)
+    # the same pair seen from the other end (ids swapped) gives the same score
+    swapped = frame.assign(track_id=["b", "a"])
+    assert geofeas.associate(swapped, combine="pvalue").pairs.score[0] == pytest.approx(
+        want, rel=1e-12
+    )
+
+
+def test_auto_inflation_recovers_true_pairs_with_optimistic_aous(rng):
+    # 12 ships on parallel lanes 2 km apart, AIS (10 m) and radar (40 m) each, but the radar
+    # states an AOU for 20 m: the summed distances of true pairs are about (10^2 + 40^2) /
+    # (10^2 + 20^2) = 3.4 times too large for the stated covariances
+    parts = []
+    for s in range(12):
+        parts.append(straight_track(rng, f"a{s:02d}", "ais", (0, 2000 * s), (5, 0), 10, 10))
+        radar = straight_track(rng, f"r{s:02d}", "radar", (0, 2000 * s), (5, 0), 4, 40)
+        parts.append(radar.assign(rx=40.0, ry=40.0))
+    frame = pd.concat(parts)
+    strict = geofeas.associate(frame, inflation=1.0)
+    auto = geofeas.associate(frame)
+    truth = lambda p: p.track_a.str[1:] == p.track_b.str[1:]  # noqa: E731
+    assert (strict.pairs["class"][truth(strict.pairs)] == "match").sum() <= 2
+    true_auto = auto.pairs[truth(auto.pairs)]
+    assert (true_auto["class"] == "match").sum() >= 10
+    c = auto.inflation[("ais", "radar")]
+    # AIS interpolated at radar times has a smaller actual error than stated, so the measured
+    # factor is somewhat below 3.4
+    assert 2.3 < c < 3.6
+    assert strict.inflation == {("ais", "radar"): 1.0}
+    assert geofeas.associate(frame, combine="geometric").inflation == {}
+
+
+def test_assignment_is_one_to_one_between_two_sources(rng):
+    frame = pd.concat(
+        [
+            straight_track(rng, "ais", "ais", (0, 0), (5, 0), 10, 10, duration=1200),
+            straight_track(rng, "r1", "radar", (0, 0), (5, 0), 3, 30, duration=500),
+            straight_track(rng, "r2", "radar", (3000, 0), (5, 0), 3, 30, duration=600, t0=600),
+            straight_track(rng, "other", "ais", (0, 150), (5, 0), 10, 10, duration=1200),
+        ]
+    )
+    res = geofeas.associate(frame)
+    one = res.assignment("ais", "radar")
+    tracks = list(one.track_a) + list(one.track_b)
+    assert len(tracks) == len(set(tracks))  # nobody twice
+    total = one.score.sum()
+    # brute force over all one-to-one choices of the candidate pairs between the two sources
+    p = res.pairs[res.pairs.score >= 0.5]
+    best = 0.0
+    rows = list(p.itertuples())
+    for mask in range(1 << len(rows)):
+        chosen = [r for i, r in enumerate(rows) if mask >> i & 1]
+        ends = [r.track_a for r in chosen] + [r.track_b for r in chosen]
+        if len(ends) == len(set(ends)):
+            best = max(best, sum(r.score for r in chosen))
+    assert total == pytest.approx(best, rel=1e-12)
+    with pytest.raises(geofeas.GeofeasError, match="unknown source"):
+        res.assignment("ais", "sonar")
+
+
+def test_empty_reports_give_empty_results():
+    empty = pd.DataFrame(
+        {c: np.array([], dtype=float) for c in ("time", "x", "y", "rx", "ry", "phi")}
+    ).assign(track_id=np.array([], dtype=np.int64), source=np.array([], dtype=np.int64))
+    res = geofeas.associate(empty)
+    assert len(res.pairs) == 0 and len(res.objects) == 0
+    assert list(res.pairs.columns) == ["track_a", "track_b", "score", "instants", "class"]
