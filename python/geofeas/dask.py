@@ -25,8 +25,10 @@ How it is cut up (the argument in full is in ``docs/fusion-stacks.md``):
 3. a tile keeps, and scores, only the pairs it *owns*: those whose box intersection has its
    lower corner in the tile (:mod:`geofeas._tiling`). Every candidate pair is therefore scored
    exactly once, with the very reports, options and track order of the single-machine run;
-4. the triage classes and the grouping into objects are global (one ship's tracks may cross
-   tiles), so they run once, on the gathered pairs, with the engine's own grouping.
+4. the covariance inflation of the chi-square rules (``inflation="auto"``), the triage classes
+   and the grouping into objects are global (one ship's tracks may cross tiles), so the tiles
+   return per-pair summaries and these steps run once, on the gathered pairs, with the
+   engine's own functions.
 
 Tasks are pure functions of their inputs, so Dask's retry recomputes the work of a lost worker
 and the result does not change.
@@ -392,6 +394,8 @@ def _pairs_frame(n: int = 0) -> dict[str, Any]:
         "b": np.zeros(n, np.uint32),
         "score": np.zeros(n),
         "instants": np.zeros(n, np.int64),
+        "sum_m": np.zeros(n),
+        "k_eff": np.zeros(n),
     }
 
 
@@ -444,7 +448,7 @@ def _score_tiles(
                 "not meet: the halo bound is broken"
             )
         mine = keys == tile
-        score, instants = _core.association_score_pairs(
+        score, instants, sum_m, k_eff = _core.association_pair_stats(
             track,
             source,
             time,
@@ -462,6 +466,8 @@ def _score_tiles(
                     "b": gb[mine].astype(np.uint32),
                     "score": np.asarray(score, np.float64),
                     "instants": np.asarray(instants, np.int64),
+                    "sum_m": np.asarray(sum_m, np.float64),
+                    "k_eff": np.asarray(k_eff, np.float64),
                 }
             )
         )
@@ -528,6 +534,7 @@ def associate(
     same_source: bool = False,
     correlation_time: float = 60.0,
     window: float = 300.0,
+    inflation: float | str = "auto",
     **score_options: Any,
 ) -> DistributedAssociation:
     """:func:`geofeas.associate` on Dask: the same pairs, scores, classes and objects.
@@ -548,7 +555,7 @@ def associate(
     npartitions : int, optional
         Partitions of the reports (default: the input's, or one per 100,000 rows).
     coords, score, combine, lower, upper, max_gap, horizon, process_noise, same_source, \
-correlation_time, window, **score_options
+correlation_time, window, inflation, **score_options
         As for :func:`geofeas.associate`.
 
     Returns
@@ -561,6 +568,12 @@ correlation_time, window, **score_options
     if not (isinstance(halo, (int, float)) and math.isfinite(halo) and halo >= 0):
         raise GeofeasError(f"halo: must be a finite number >= 0, got {halo!r}")
     name, opts = _score_options(score, score_options)
+    if isinstance(inflation, str):
+        if inflation != "auto":
+            raise GeofeasError(f"inflation: expected 'auto' or a number, got {inflation!r}")
+        infl: float | None = None
+    else:
+        infl = float(inflation)
     options = dict(
         score=score,
         combine=combine,
@@ -572,6 +585,7 @@ correlation_time, window, **score_options
         same_source=bool(same_source),
         correlation_time=float(correlation_time),
         window=float(window),
+        inflation=inflation,
         **score_options,
     )
     index = dict(
@@ -588,6 +602,7 @@ correlation_time, window, **score_options
         horizon=float(horizon),
         process_noise=float(process_noise),
         correlation_time=float(correlation_time),
+        inflation=infl,
         **opts,
     )
     # every option checked by the engine before any work is distributed
@@ -726,17 +741,25 @@ def _gather(
         if (np.diff(key) == 0).any():  # pragma: no cover - ownership makes this impossible
             raise GeofeasError("internal: a candidate pair was scored in two tiles")
     a, b, score, instants = a[keep], b[keep], score[keep], instants[keep]
+    sum_m = pairs["sum_m"].to_numpy(np.float64)[keep]
+    k_eff = pairs["k_eff"].to_numpy(np.float64)[keep]
     sources, inverse = np.unique(tracks["source"].to_numpy(), return_inverse=True)
     source: NDArray[np.uint32] = np.ascontiguousarray(inverse.reshape(-1), dtype=np.uint32)
     start = tracks["start"].to_numpy(np.float64)
     end = tracks["end"].to_numpy(np.float64)
-    klass, obj = _core.association_group(
+    infl = options["inflation"]
+    done = _core.association_finish(
         np.ascontiguousarray(source),
         np.ascontiguousarray(start),
         np.ascontiguousarray(end),
         np.ascontiguousarray(a),
         np.ascontiguousarray(b),
         np.ascontiguousarray(score),
+        np.ascontiguousarray(instants, dtype=np.uint32),
+        np.ascontiguousarray(sum_m),
+        np.ascontiguousarray(k_eff),
+        combine=options["combine"],
+        inflation=None if isinstance(infl, str) else float(infl),
         lower=options["lower"],
         upper=options["upper"],
     )
@@ -753,13 +776,5 @@ def _gather(
         time=np.ascontiguousarray(tracks["first_time"].to_numpy(np.float64)),
         aou=np.ascontiguousarray(first[list(names)].to_numpy(np.float64)),
     )
-    raw = {
-        "a": a,
-        "b": b,
-        "score": score,
-        "instants": instants.astype(np.uint32),
-        "class": klass,
-        "object": obj,
-        "candidates": candidates,
-    }
+    raw = dict(done, a=a, b=b, instants=instants.astype(np.uint32), candidates=candidates)
     return DistributedAssociation(track_reports, raw, options, tracks, tiles)
