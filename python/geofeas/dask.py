@@ -426,11 +426,11 @@ def _score_tiles(
         except GeofeasError as exc:  # the caller's rows, ids and sources
             text = str(_global_rows(exc, rows["_row"].to_numpy(np.int64)))
             for word, names in (("track", track_ids), ("source", sources)):
-                text = re.sub(
-                    rf"\b{word} (?:np\.int64\()?(\d+)\)?",
-                    lambda m, w=word, v=names: f"{w} {v[int(m.group(1))]!r}",
-                    text,
-                )
+
+                def name(m: re.Match[str], w: str = word, v: NDArray[Any] = names) -> str:
+                    return f"{w} {v[int(m.group(1))]!r}"
+
+                text = re.sub(rf"\b{word} (?:np\.int64\()?(\d+)\)?", name, text)
             raise GeofeasError(text) from None
         gid = np.asarray(rep.track_ids, dtype=np.int64)
         track, source, time, aou, n_local = rep._core_args()
