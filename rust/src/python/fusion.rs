@@ -64,6 +64,7 @@ fn association_group<'py>(
 }
 
 /// `assign::group` after checking lengths, indices and thresholds; classes as `u8`.
+#[allow(clippy::too_many_arguments)]
 fn group_checked(
     py: Python<'_>,
     src: &[u32],
