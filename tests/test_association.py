@@ -614,3 +614,24 @@ def test_empty_reports_give_empty_results():
     res = geofeas.associate(empty)
     assert len(res.pairs) == 0 and len(res.objects) == 0
     assert list(res.pairs.columns) == ["track_a", "track_b", "score", "instants", "class"]
+
+
+def test_margin_sends_ambiguous_matches_to_the_operator(rng):
+    # two ships 30 m apart, each with an AIS track, and a radar track (2-sigma 300 m) of the first:
+    # geography cannot tell which ship the radar sees
+    frame = pd.concat(
+        [
+            straight_track(rng, "ais-1", "ais", (0, 0), (5, 0), 10, 5),
+            straight_track(rng, "ais-2", "ais", (0, 30), (5, 0), 10, 5),
+            straight_track(rng, "radar", "radar", (0, 0), (5, 0), 4, 150),
+            # a third ship far away with a precise radar track: unambiguous
+            straight_track(rng, "ais-3", "ais", (0, 5000), (5, 0), 10, 5),
+            straight_track(rng, "radar-3", "radar", (0, 5000), (5, 0), 4, 20),
+        ]
+    )
+    plain = geofeas.associate(frame).pairs.set_index(["track_a", "track_b"])["class"]
+    assert "match" in {plain[("ais-1", "radar")], plain[("ais-2", "radar")]}
+    strict = geofeas.associate(frame, margin=3.0).pairs.set_index(["track_a", "track_b"])["class"]
+    assert strict[("ais-1", "radar")] == "borderline"
+    assert strict[("ais-2", "radar")] == "borderline"
+    assert strict[("ais-3", "radar-3")] == "match"

@@ -41,6 +41,7 @@ def run(args: argparse.Namespace) -> int:
         correlation_time=args.correlation_time,
         window=args.window,
         inflation=args.inflation if args.inflation == "auto" else float(args.inflation),
+        margin=args.margin,
         **options,
     )
     result.to_file(args.out)
@@ -114,6 +115,13 @@ def add_parser(sub: Any) -> None:
         default="auto",
         type=_inflation,
         help="covariance inflation of the chi-square rules: 'auto' (default) or a number",
+    )
+    p.add_argument(
+        "--margin",
+        type=float,
+        default=None,
+        help="log-likelihood margin a match needs over every exclusive alternative (default: "
+        "no such check)",
     )
     p.add_argument("--vertices", type=int, default=256, help="overlap polygon resolution")
     p.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per instant")

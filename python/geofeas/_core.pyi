@@ -136,6 +136,7 @@ def associate(
     samples: int = 500,
     seed: int = 0,
     inflation: float | None = None,
+    margin: float | None = None,
 ) -> dict[str, Any]: ...
 def association_candidates(
     track: NDArray[np.uint32],

@@ -532,6 +532,7 @@ def associate(
     correlation_time: float = 60.0,
     window: float = 300.0,
     inflation: float | str = "auto",
+    margin: float | None = None,
     **score_options: Any,
 ) -> Association:
     """Score every candidate track pair and group duplicate tracks into objects.
@@ -571,6 +572,13 @@ def associate(
         mean distances against the chi-square median; at least 1, so AOUs are never tightened),
         which keeps true pairs matched when a source's AOUs are optimistic; a number divides
         every summed distance by it (1: the AOUs as given). See :attr:`Association.inflation`.
+    margin : float, optional
+        If given, a match must also be unambiguous: it must beat every mutually exclusive
+        alternative (the same track with another track of its partner's source overlapping the
+        partner in time, scoring at least ``lower``) by this log-likelihood margin on the
+        instants the two pairs share, ``0.5 sum (m_rival - m)`` discounted for correlated
+        instants; otherwise it is ``"borderline"``. E.g. 3 (a Bayes factor of 20, "strong
+        evidence"). Default: no such check (the grouping constraint alone).
     **score_options
         ``threshold`` (glr), ``method`` and ``vertices`` (overlap), ``samples`` and ``seed``
         (monte_carlo).
@@ -599,6 +607,7 @@ def associate(
         correlation_time=float(correlation_time),
         window=float(window),
         inflation=inflation,
+        margin=margin,
         **score_options,
     )
     raw = _core.associate(
@@ -615,6 +624,7 @@ def associate(
         correlation_time=float(correlation_time),
         window=float(window),
         inflation=infl,
+        margin=None if margin is None else float(margin),
         **opts,
     )
     return Association(rep, raw, options)

@@ -60,7 +60,78 @@ pub fn group(
     lower: f64,
     upper: f64,
 ) -> (Vec<Class>, Vec<u32>) {
+    group_unambiguous(tracks, pairs, scores, &[], lower, upper)
+}
+
+/// The rivals of every match candidate (score at least `upper`): the pairs scoring at least
+/// `lower` that share a track `t` with it and whose other track has the same source as the
+/// candidate's partner and a time span overlapping the partner's, so that one object cannot hold
+/// both. Returned as `(rival pair, shared track)` lists, empty for pairs below `upper`.
+pub fn rivals(
+    tracks: &[TrackInfo],
+    pairs: &[(u32, u32)],
+    scores: &[f64],
+    lower: f64,
+    upper: f64,
+) -> Vec<Vec<(usize, u32)>> {
     let n = tracks.len();
+    let mut by_track: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (k, &(a, b)) in pairs.iter().enumerate() {
+        if scores[k] >= lower {
+            by_track[a as usize].push(k);
+            by_track[b as usize].push(k);
+        }
+    }
+    let other = |k: usize, t: u32| {
+        let (a, b) = pairs[k];
+        if a == t {
+            b
+        } else {
+            a
+        }
+    };
+    (0..pairs.len())
+        .map(|p| {
+            let mut out = Vec::new();
+            if scores[p] < upper {
+                return out;
+            }
+            let (a, b) = pairs[p];
+            for (t, partner) in [(a, b), (b, a)] {
+                let pi = &tracks[partner as usize];
+                for &q in &by_track[t as usize] {
+                    if q == p {
+                        continue;
+                    }
+                    let rival = &tracks[other(q, t) as usize];
+                    if rival.source == pi.source && rival.start < pi.end && pi.start < rival.end {
+                        out.push((q, t));
+                    }
+                }
+            }
+            out
+        })
+        .collect()
+}
+
+/// [`group`] where the match candidates flagged in `unclear` (ambiguous ones, see
+/// `association::ambiguous`) are `borderline` and take no part in the grouping. An empty
+/// `unclear` flags none.
+pub fn group_unambiguous(
+    tracks: &[TrackInfo],
+    pairs: &[(u32, u32)],
+    scores: &[f64],
+    unclear: &[bool],
+    lower: f64,
+    upper: f64,
+) -> (Vec<Class>, Vec<u32>) {
+    let n = tracks.len();
+    let none = vec![false; pairs.len()];
+    let unclear = if unclear.is_empty() {
+        &none[..]
+    } else {
+        unclear
+    };
     let mut class: Vec<Class> = scores
         .iter()
         .map(|&s| {
@@ -73,6 +144,11 @@ pub fn group(
             }
         })
         .collect();
+    for (k, c) in class.iter_mut().enumerate() {
+        if unclear[k] {
+            *c = Class::Borderline;
+        }
+    }
     let mut order: Vec<usize> = (0..pairs.len())
         .filter(|&k| class[k] == Class::Match)
         .collect();
@@ -291,6 +367,45 @@ mod tests {
         assert_eq!(object[0], object[1]);
         assert_eq!(object[0], object[2]);
         assert_ne!(object[0], object[3]);
+    }
+
+    #[test]
+    fn rivals_are_exclusive_alternatives() {
+        // AIS track 0; radar tracks 1 and 2 at the same time, radar 3 later, radar 4 overlapping 1
+        // but scoring below lower
+        let tracks = [
+            info(0, 0.0, 100.0),
+            info(1, 0.0, 50.0),
+            info(1, 0.0, 50.0),
+            info(1, 60.0, 100.0),
+            info(1, 10.0, 40.0),
+        ];
+        let pairs = [(0, 1), (0, 2), (0, 3), (0, 4)];
+        let scores = [0.95, 0.9, 0.9, 0.4];
+        let r = rivals(&tracks, &pairs, &scores, 0.5, 0.7);
+        assert_eq!(r[0], vec![(1, 0)]);
+        assert_eq!(r[1], vec![(0, 0)]);
+        assert!(r[2].is_empty() && r[3].is_empty());
+        let (class, object) = group_unambiguous(
+            &tracks,
+            &pairs,
+            &scores,
+            &[false, true, false, false],
+            0.5,
+            0.7,
+        );
+        assert_eq!(
+            class,
+            vec![
+                Class::Match,
+                Class::Borderline,
+                Class::Match,
+                Class::NonMatch
+            ]
+        );
+        assert_eq!(object[0], object[1]);
+        assert_eq!(object[0], object[3]);
+        assert_ne!(object[0], object[2]);
     }
 
     #[test]

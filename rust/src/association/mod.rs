@@ -57,6 +57,9 @@ pub struct Options {
     pub correlation_time: f64,
     /// Candidate index.
     pub index: IndexOptions,
+    /// Log-likelihood margin by which a match must beat every mutually exclusive alternative
+    /// ([`rival_margins`]); `None` (the default) does not check.
+    pub margin: Option<f64>,
     /// Covariance inflation of the chi-square rules: `None` estimates one factor per pair of
     /// sources from the data ([`combine::estimate_inflation`]); `Some(c)` divides every summed
     /// distance by `c` (1: the AOUs as given).
@@ -74,6 +77,7 @@ impl Default for Options {
             correlation_time: Self::DEFAULT_CORRELATION_TIME,
             index: IndexOptions::default(),
             inflation: None,
+            margin: None,
         }
     }
 }
@@ -104,6 +108,9 @@ impl Options {
                 "correlation_time",
                 format!("must be >= 0, got {}", self.correlation_time),
             );
+        }
+        if self.margin.is_some_and(f64::is_nan) {
+            return bad("margin", "must not be NaN".into());
         }
         if let Some(c) = self.inflation {
             if !(c.is_finite() && c > 0.0) {
@@ -298,6 +305,7 @@ pub fn associate(r: &Reports, o: &Options, interrupt: Interrupt<'_>) -> Result<A
         kept.push((a, b));
         stats.push((st.sum_m, st.instants as f64, st.k_eff));
     }
+    let mut scale = vec![1.0; kept.len()];
     if o.combine.is_chi2() {
         res.inflation = match o.inflation {
             Some(c) => {
@@ -310,6 +318,7 @@ pub fn associate(r: &Reports, o: &Options, interrupt: Interrupt<'_>) -> Result<A
                     .collect();
                 groups.sort_by_key(|x| (x.0, x.1));
                 groups.dedup_by(|x, y| (x.0, x.1) == (y.0, y.1));
+                scale.iter_mut().for_each(|s| *s = c);
                 groups
             }
             None => {
@@ -322,6 +331,7 @@ pub fn associate(r: &Reports, o: &Options, interrupt: Interrupt<'_>) -> Result<A
                         .map_or(1.0, |j| inflation[j].2);
                     let (sum_m, k, k_eff) = stats[i];
                     res.score[i] = o.combine.from_summary(sum_m / c, k, k_eff);
+                    scale[i] = c;
                 }
                 inflation
             }
@@ -337,8 +347,77 @@ pub fn associate(r: &Reports, o: &Options, interrupt: Interrupt<'_>) -> Result<A
             }
         })
         .collect();
-    let (class, object) = assign::group(&tracks, &kept, &res.score, o.lower, o.upper);
+    let unclear: Vec<bool> = match o.margin {
+        Some(margin) => rival_margins(r, &tracks, &kept, &res.score, &scale, &o)
+            .iter()
+            .map(|&m| m < margin)
+            .collect(),
+        None => Vec::new(),
+    };
+    let (class, object) =
+        assign::group_unambiguous(&tracks, &kept, &res.score, &unclear, o.lower, o.upper);
     res.class = class;
     res.object = object;
     Ok(res)
+}
+
+/// The log-likelihood margin of every match candidate over its rivals ([`assign::rivals`]: the
+/// shared track `t` with another track of the partner's source overlapping the partner in
+/// time), on the instants the two pairs share; `+inf` without rivals. With `Options::margin`,
+/// a candidate whose margin is below it is ambiguous and becomes `borderline`. With per-instant squared
+/// distances `m_P`, `m_Q` (each divided by its pair's covariance inflation) at the `n` common
+/// times, the GLR of eq. 71 gives `LLR = 0.5 sum (m_Q - m_P)`, discounted to `k_eff / n` of it
+/// for correlated instants ([`combine::effective_instants`] of the common times). A rival
+/// without common instants is not counted. The margin is the smallest LLR over the rivals.
+pub fn rival_margins(
+    r: &Reports,
+    tracks: &[assign::TrackInfo],
+    pairs: &[(u32, u32)],
+    scores: &[f64],
+    scale: &[f64],
+    o: &Options,
+) -> Vec<f64> {
+    let rivals = assign::rivals(tracks, pairs, scores, o.lower, o.upper);
+    let other = |k: usize, t: u32| {
+        let (a, b) = pairs[k];
+        if a == t {
+            b
+        } else {
+            a
+        }
+    };
+    (0..pairs.len())
+        .into_par_iter()
+        .map(|p| {
+            rivals[p].iter().fold(f64::INFINITY, |acc, &(q, t)| {
+                let ip = pair_instants(r, t as usize, other(p, t) as usize, o);
+                let iq = pair_instants(r, t as usize, other(q, t) as usize, o);
+                let (mut i, mut j) = (0, 0);
+                let mut times = Vec::new();
+                let mut diff = 0.0;
+                while i < ip.time.len() && j < iq.time.len() {
+                    match ip.time[i].total_cmp(&iq.time[j]) {
+                        std::cmp::Ordering::Less => i += 1,
+                        std::cmp::Ordering::Greater => j += 1,
+                        std::cmp::Ordering::Equal => {
+                            diff += iq.m[j] / scale[q] - ip.m[i] / scale[p];
+                            times.push(ip.time[i]);
+                            i += 1;
+                            j += 1;
+                        }
+                    }
+                }
+                if times.is_empty() {
+                    return acc;
+                }
+                let k_eff = combine::effective_instants(&times, o.correlation_time);
+                let llr = 0.5 * diff * k_eff / times.len() as f64;
+                if llr.is_nan() {
+                    f64::NEG_INFINITY
+                } else {
+                    acc.min(llr)
+                }
+            })
+        })
+        .collect()
 }

@@ -80,6 +80,7 @@ fn options(
     samples: usize,
     seed: u64,
     inflation: Option<f64>,
+    margin: Option<f64>,
 ) -> PyResult<Options> {
     let spec = Score::from_name(
         score,
@@ -107,6 +108,7 @@ fn options(
             same_source,
         },
         inflation,
+        margin,
     }
     .validated()?)
 }
@@ -116,7 +118,7 @@ fn options(
 #[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic, score="glr", combine="chi2",
     lower=0.5, upper=None, max_gap=300.0, horizon=0.0, process_noise=2.0, same_source=false,
     correlation_time=60.0, window=300.0, threshold=false, method="polygon", vertices=256,
-    samples=500, seed=0, inflation=None))]
+    samples=500, seed=0, inflation=None, margin=None))]
 #[allow(clippy::too_many_arguments)]
 fn associate<'py>(
     py: Python<'py>,
@@ -142,6 +144,7 @@ fn associate<'py>(
     samples: usize,
     seed: u64,
     inflation: Option<f64>,
+    margin: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let o = options(
         score,
@@ -160,6 +163,7 @@ fn associate<'py>(
         samples,
         seed,
         inflation,
+        margin,
     )?;
     let (t, s, tm) = (
         slice1("track", &track)?,
@@ -283,6 +287,7 @@ fn association_score_pairs<'py>(
         samples,
         seed,
         Some(inflation),
+        None,
     )?;
     let (sa, sb) = (slice1("a", &a)?, slice1("b", &b)?);
     if sa.len() != sb.len() {
