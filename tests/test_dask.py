@@ -303,6 +303,8 @@ def test_errors_name_the_row_of_the_whole_table(planar):
         gd.associate(planar, tile=(50.0, 60.0))
     with pytest.raises(GeofeasError, match="halo"):
         gd.associate(planar, halo=-1.0)
+    with pytest.raises(GeofeasError, match="margin"):
+        gd.associate(planar, margin=3.0)
 
 
 def test_missing_dask_gives_an_install_hint(monkeypatch):

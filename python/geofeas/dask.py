@@ -535,6 +535,7 @@ def associate(
     correlation_time: float = 60.0,
     window: float = 300.0,
     inflation: float | str = "auto",
+    margin: float | None = None,
     **score_options: Any,
 ) -> DistributedAssociation:
     """:func:`geofeas.associate` on Dask: the same pairs, scores, classes and objects.
@@ -557,6 +558,9 @@ def associate(
     coords, score, combine, lower, upper, max_gap, horizon, process_noise, same_source, \
 correlation_time, window, inflation, **score_options
         As for :func:`geofeas.associate`.
+    margin : None
+        Not supported here: the ambiguity check of :func:`geofeas.associate` compares a match
+        with rival pairs that may lie in other tiles. Only ``None`` is accepted.
 
     Returns
     -------
@@ -567,6 +571,11 @@ correlation_time, window, inflation, **score_options
     coords, columns = _columns(ddf.columns, coords)
     if not (isinstance(halo, (int, float)) and math.isfinite(halo) and halo >= 0):
         raise GeofeasError(f"halo: must be a finite number >= 0, got {halo!r}")
+    if margin is not None:
+        raise GeofeasError(
+            "margin: the ambiguity check is not supported by geofeas.dask (a match's rivals may "
+            "lie in other tiles); use geofeas.associate, or margin=None"
+        )
     name, opts = _score_options(score, score_options)
     if isinstance(inflation, str):
         if inflation != "auto":
@@ -586,6 +595,7 @@ correlation_time, window, inflation, **score_options
         correlation_time=float(correlation_time),
         window=float(window),
         inflation=inflation,
+        margin=margin,
         **score_options,
     )
     index = dict(

@@ -196,6 +196,7 @@ fn association_pair_stats<'py>(
         correlation_time,
         index: IndexOptions::default(),
         inflation,
+        margin: None,
     }
     .validated()?;
     let (sa, sb) = (slice("a", &a)?, slice("b", &b)?);
