@@ -93,13 +93,15 @@ def same(a, b) -> bool:
     return pa.equals(pb) and oa.equals(ob)
 
 
-def timed(fn, repeat: int):
-    times, out = [], None
+def timed(fn, repeat: int, cpu=time.process_time):
+    """Median wall time, median CPU time (``cpu()`` deltas: all threads, all processes)."""
+    walls, cpus, out = [], [], None
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        c0, t0 = cpu(), time.perf_counter()
         out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
+        walls.append(time.perf_counter() - t0)
+        cpus.append(cpu() - c0)
+    return statistics.median(walls), statistics.median(cpus), out
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -107,19 +109,23 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--reports", type=int, default=1_000_000)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--partitions", type=int, default=8)
+    parser.add_argument("--score", default="glr", help="per-instant score (glr, overlap, ...)")
     args = parser.parse_args(argv)
 
-    from distributed import Client, LocalCluster
+    import dask.dataframe as dd
+    from distributed import Client, LocalCluster, wait
 
     import geofeas
     import geofeas.dask as gd
 
     df = synthetic_picture(args.reports)
-    print(f"picture: {len(df):,} reports, {df['track_id'].nunique():,} tracks", flush=True)
-    t_single, base = timed(lambda: geofeas.associate(df), args.repeat)
+    options = {"score": args.score}
+    print(f"picture: {len(df):,} reports, {df['track_id'].nunique():,} tracks; {options}")
+    print(f"load average before: {os.getloadavg()}", flush=True)
+    t_single, c_single, base = timed(lambda: geofeas.associate(df, **options), args.repeat)
     print(
-        f"single process (geofeas.associate, {os.cpu_count()} rayon threads): {t_single:.2f} s; "
-        f"{len(base.pairs):,} pairs",
+        f"single process (geofeas.associate, {os.cpu_count()} rayon threads): {t_single:.2f} s "
+        f"wall, {c_single:.2f} s CPU; {len(base.pairs):,} pairs",
         flush=True,
     )
     rows = []
@@ -135,26 +141,37 @@ def main(argv: list[str] | None = None) -> int:
             ) as cluster,
             Client(cluster) as client,
         ):
-            ddf = client.persist(
-                __import__("dask.dataframe").dataframe.from_pandas(df, npartitions=args.partitions)
-            )
-            t, got = timed(lambda ddf=ddf: gd.associate(ddf), args.repeat)
+            ddf = client.persist(dd.from_pandas(df, npartitions=args.partitions))
+            wait(ddf)
+
+            def cpu(client=client):
+                # this process (client and scheduler) and every worker process
+                return time.process_time() + sum(client.run(time.process_time).values())
+
+            t, c, got = timed(lambda ddf=ddf: gd.associate(ddf, **options), args.repeat, cpu)
             if not same(got, base):
                 print(f"{workers} worker(s): result differs from the single-process one")
                 return 1
-            rows.append((workers, t))
+            rows.append((workers, t, c))
             print(
-                f"dask, {workers} worker process(es): {t:.2f} s "
-                f"({t / t_single:.2f}x the single-process time)",
+                f"dask, {workers} worker process(es): {t:.2f} s wall ({t / t_single:.2f}x the "
+                f"single process), {c:.2f} s CPU ({c / c_single:.2f}x), {got.tiles} tiles",
                 flush=True,
             )
-    (w1, t1), (w2, t2) = rows
+    (_, t1, c1), (_, t2, c2) = rows
+    print(f"load average after: {os.getloadavg()}")
     print()
-    print("| run | time (s) | vs single process | speed-up 1 -> 2 workers |")
-    print("|---|---|---|---|")
-    print(f"| geofeas.associate, one process | {t_single:.2f} | 1.00 | |")
-    print(f"| geofeas.dask, 1 worker | {t1:.2f} | {t1 / t_single:.2f} | |")
-    print(f"| geofeas.dask, 2 workers | {t2:.2f} | {t2 / t_single:.2f} | {t1 / t2:.2f} |")
+    print("| run | wall (s) | vs single process | CPU (s) | vs single process | 1 -> 2 workers |")
+    print("|---|---|---|---|---|---|")
+    print(f"| geofeas.associate, one process | {t_single:.2f} | 1.00 | {c_single:.2f} | 1.00 | |")
+    print(
+        f"| geofeas.dask, 1 worker | {t1:.2f} | {t1 / t_single:.2f} | {c1:.2f} | "
+        f"{c1 / c_single:.2f} | |"
+    )
+    print(
+        f"| geofeas.dask, 2 workers | {t2:.2f} | {t2 / t_single:.2f} | {c2:.2f} | "
+        f"{c2 / c_single:.2f} | {t1 / t2:.2f}x faster |"
+    )
     return 0
 
 

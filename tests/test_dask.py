@@ -38,11 +38,14 @@ def aou_cov(rx: np.ndarray, ry: np.ndarray, phi: np.ndarray) -> np.ndarray:
     return u @ lam @ np.swapaxes(u, -1, -2)
 
 
-def picture(seed: int = 1, ships: int = 60, area: float = 30_000.0, hours: float = 1.0):
+def picture(
+    seed: int = 1, ships: int = 60, area: float = 30_000.0, hours: float = 1.0, noise: float = 1.0
+):
     """Ships seen by AIS (every 60 s, 10 m) and radar (every 20 s, elongated, track breaks).
 
     A third of the ships sail in pairs 150-400 m apart, so that near-duplicates, borderline
-    pairs and grouping conflicts occur; times are seconds.
+    pairs and grouping conflicts occur; times are seconds. The radar's errors are ``noise``
+    times what its AOUs claim.
     """
     rng = np.random.default_rng(seed)
     pos0 = rng.uniform(0, area, (ships, 2))
@@ -61,8 +64,8 @@ def picture(seed: int = 1, ships: int = 60, area: float = 30_000.0, hours: float
             phi = np.full(n, rng.uniform(0, np.pi)) if source == "radar" else np.zeros(n)
             rxs, rys = np.full(n, rx), np.full(n, ry)
             cov = aou_cov(rxs, rys, phi)
-            noise = np.einsum("nij,nj->ni", np.linalg.cholesky(cov), rng.normal(size=(n, 2)))
-            xy = pos0[i] + vel[i] * t[:, None] + noise
+            err = np.einsum("nij,nj->ni", np.linalg.cholesky(cov), rng.normal(size=(n, 2)))
+            xy = pos0[i] + vel[i] * t[:, None] + err * (noise if source == "radar" else 1.0)
             ids = np.full(n, f"{source}-{i}", dtype=object)
             if source == "radar":  # the radar tracker drops the track and starts a new one
                 cut = rng.integers(n // 4, 3 * n // 4)
@@ -122,6 +125,7 @@ def assert_same(got, want) -> None:
     np.testing.assert_array_equal(got.pairs["score"].to_numpy(), want.pairs["score"].to_numpy())
     pd.testing.assert_frame_equal(got.objects, want.objects, check_exact=True)
     assert got.candidates == want.candidates
+    assert got.inflation == want.inflation
 
 
 @pytest.fixture(scope="module")
@@ -167,9 +171,20 @@ def test_cluster_geographic_across_the_antimeridian_with_extrapolation(client, p
     assert_same(got, want)
 
 
+def test_cluster_estimated_inflation_of_understated_aous(client):
+    reports = picture(seed=4, noise=1.5)  # the radar understates its errors
+    want = geofeas.associate(reports)
+    (factor,) = want.inflation.values()
+    assert factor > 1.5  # the engine's global estimate really is at work
+    got = gd.associate(reports, tile=(6000.0, 1800.0), npartitions=4)
+    assert got.tiles > 10
+    assert_same(got, want)
+
+
 @pytest.mark.parametrize(
     "options",
     [
+        dict(inflation=1.3),
         dict(score="overlap", combine="geometric"),
         dict(score="glr_threshold", combine="harmonic", lower=0.2, upper=0.4),
         dict(same_source=True, combine="pvalue", correlation_time=0.0),
@@ -288,6 +303,8 @@ def test_errors_name_the_row_of_the_whole_table(planar):
         gd.associate(planar, tile=(50.0, 60.0))
     with pytest.raises(GeofeasError, match="halo"):
         gd.associate(planar, halo=-1.0)
+    with pytest.raises(GeofeasError, match="margin"):
+        gd.associate(planar, margin=3.0)
 
 
 def test_missing_dask_gives_an_install_hint(monkeypatch):

@@ -31,7 +31,7 @@ __all__ = [
 
 def _pyarrow() -> Any:
     try:
-        import pyarrow as pa
+        import pyarrow as pa  # type: ignore[import-untyped,unused-ignore]
     except ImportError:  # pragma: no cover - depends on the environment
         raise GeofeasError("geofeas.arrow needs pyarrow: pip install 'geofeas[io]'") from None
     return pa
@@ -45,7 +45,7 @@ def to_pandas(table: Any, /) -> Any:
     """
     pa = _pyarrow()
     if isinstance(table, (str, os.PathLike)):
-        import pyarrow.parquet as pq
+        import pyarrow.parquet as pq  # type: ignore[import-untyped,unused-ignore]
 
         try:
             table = pq.read_table(Path(table))
@@ -85,7 +85,7 @@ def objects_table(association: Association, /) -> Any:
 
 def write_parquet(association: Association, directory: str | os.PathLike[str], /) -> None:
     """Write ``pairs.parquet`` and ``objects.parquet`` into ``directory`` (created if absent)."""
-    import pyarrow.parquet as pq
+    import pyarrow.parquet as pq  # type: ignore[import-untyped,unused-ignore]
 
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)

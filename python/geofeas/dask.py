@@ -25,8 +25,10 @@ How it is cut up (the argument in full is in ``docs/fusion-stacks.md``):
 3. a tile keeps, and scores, only the pairs it *owns*: those whose box intersection has its
    lower corner in the tile (:mod:`geofeas._tiling`). Every candidate pair is therefore scored
    exactly once, with the very reports, options and track order of the single-machine run;
-4. the triage classes and the grouping into objects are global (one ship's tracks may cross
-   tiles), so they run once, on the gathered pairs, with the engine's own grouping.
+4. the covariance inflation of the chi-square rules (``inflation="auto"``), the triage classes
+   and the grouping into objects are global (one ship's tracks may cross tiles), so the tiles
+   return per-pair summaries and these steps run once, on the gathered pairs, with the
+   engine's own functions.
 
 Tasks are pure functions of their inputs, so Dask's retry recomputes the work of a lost worker
 and the result does not change.
@@ -332,44 +334,44 @@ def _reports_of(part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, 
         raise _global_rows(exc, rows) from None
 
 
-def _partition_partials(part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, ...]):
-    return _partials(_reports_of(part, pidx, coords, columns))
+def _partition_partials(
+    part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, ...]
+) -> tuple[tuple[NDArray[Any], ...], pd.DataFrame, pd.DataFrame]:
+    """A partition parsed once: its reports as arrays, and its partial aggregates."""
+    rep = _reports_of(part, pidx, coords, columns)
+    agg, ends = _partials(rep)
+    return (rep.track, rep.source, rep.time, rep.aou, rep.track_ids, rep.sources), agg, ends
 
 
 def _to_tiles(
-    part: pd.DataFrame,
+    parsed: tuple[NDArray[Any], ...],
+    pidx: int,
     coords: str,
-    columns: tuple[str, ...],
-    track_ids: NDArray[Any],
-    sources: NDArray[Any],
-    first_copy: NDArray[np.int64],
-    copies: NDArray[np.int64],
-    keys: NDArray[np.int64],
-    partition_info: Any = None,
+    shared: tuple[NDArray[Any], ...],
 ) -> pd.DataFrame:
-    """The reports of a partition, parsed, numbered and copied into their tracks' tiles.
+    """The reports of a partition, numbered and copied into their tracks' tiles.
 
     Ids become the track's index among all sorted track ids (``track_id``) and the source's
-    among all sorted sources (``source``), times become seconds: every column is numeric, and
+    among all sorted sources (``source``), times are seconds: every column is numeric, and
     the engine, which numbers a tile's tracks by their sorted ids, numbers them in the same
     order as the whole picture.
     """
-    pidx = int(partition_info["number"]) if partition_info else 0
-    rep = _reports_of(part, pidx, coords, columns)
-    gid = np.searchsorted(track_ids, rep.track_ids)[rep.track].astype(np.int64)
-    src = np.searchsorted(sources, rep.sources)[rep.source].astype(np.int64)
+    track, source, time, aou, local_ids, local_sources = parsed
+    track_ids, sources, first_copy, copies, keys = shared
+    gid = np.searchsorted(track_ids, local_ids).astype(np.int64)[track]
+    src = np.searchsorted(sources, local_sources).astype(np.int64)[source]
     count = copies[gid]
-    row = np.repeat(np.arange(len(rep), dtype=np.int64), count)
+    row = np.repeat(np.arange(len(time), dtype=np.int64), count)
     start = np.repeat(first_copy[gid] - np.cumsum(count) + count, count)
     tile = keys[start + np.arange(row.size, dtype=np.int64)]
     names = PLANAR if coords == "planar" else GEOGRAPHIC
     out: dict[str, Any] = {
         "track_id": gid[row],
         "source": src[row],
-        "time": rep.time[row],
+        "time": time[row],
     }
     for k, name in enumerate(names):
-        out[name] = rep.aou[row, k]
+        out[name] = aou[row, k]
     out["_row"] = (np.int64(pidx) << _ROW_BITS) + row
     out["_tile"] = tile
     return pd.DataFrame(out)
@@ -392,6 +394,8 @@ def _pairs_frame(n: int = 0) -> dict[str, Any]:
         "b": np.zeros(n, np.uint32),
         "score": np.zeros(n),
         "instants": np.zeros(n, np.int64),
+        "sum_m": np.zeros(n),
+        "k_eff": np.zeros(n),
     }
 
 
@@ -422,11 +426,11 @@ def _score_tiles(
         except GeofeasError as exc:  # the caller's rows, ids and sources
             text = str(_global_rows(exc, rows["_row"].to_numpy(np.int64)))
             for word, names in (("track", track_ids), ("source", sources)):
-                text = re.sub(
-                    rf"\b{word} (?:np\.int64\()?(\d+)\)?",
-                    lambda m, w=word, v=names: f"{w} {v[int(m.group(1))]!r}",
-                    text,
-                )
+
+                def name(m: re.Match[str], w: str = word, v: NDArray[Any] = names) -> str:
+                    return f"{w} {v[int(m.group(1))]!r}"
+
+                text = re.sub(rf"\b{word} (?:np\.int64\()?(\d+)\)?", name, text)
             raise GeofeasError(text) from None
         gid = np.asarray(rep.track_ids, dtype=np.int64)
         track, source, time, aou, n_local = rep._core_args()
@@ -444,7 +448,7 @@ def _score_tiles(
                 "not meet: the halo bound is broken"
             )
         mine = keys == tile
-        score, instants = _core.association_score_pairs(
+        score, instants, sum_m, k_eff = _core.association_pair_stats(
             track,
             source,
             time,
@@ -462,6 +466,8 @@ def _score_tiles(
                     "b": gb[mine].astype(np.uint32),
                     "score": np.asarray(score, np.float64),
                     "instants": np.asarray(instants, np.int64),
+                    "sum_m": np.asarray(sum_m, np.float64),
+                    "k_eff": np.asarray(k_eff, np.float64),
                 }
             )
         )
@@ -528,6 +534,8 @@ def associate(
     same_source: bool = False,
     correlation_time: float = 60.0,
     window: float = 300.0,
+    inflation: float | str = "auto",
+    margin: float | None = None,
     **score_options: Any,
 ) -> DistributedAssociation:
     """:func:`geofeas.associate` on Dask: the same pairs, scores, classes and objects.
@@ -548,8 +556,11 @@ def associate(
     npartitions : int, optional
         Partitions of the reports (default: the input's, or one per 100,000 rows).
     coords, score, combine, lower, upper, max_gap, horizon, process_noise, same_source, \
-correlation_time, window, **score_options
+correlation_time, window, inflation, **score_options
         As for :func:`geofeas.associate`.
+    margin : None
+        Not supported here: the ambiguity check of :func:`geofeas.associate` compares a match
+        with rival pairs that may lie in other tiles. Only ``None`` is accepted.
 
     Returns
     -------
@@ -560,7 +571,18 @@ correlation_time, window, **score_options
     coords, columns = _columns(ddf.columns, coords)
     if not (isinstance(halo, (int, float)) and math.isfinite(halo) and halo >= 0):
         raise GeofeasError(f"halo: must be a finite number >= 0, got {halo!r}")
+    if margin is not None:
+        raise GeofeasError(
+            "margin: the ambiguity check is not supported by geofeas.dask (a match's rivals may "
+            "lie in other tiles); use geofeas.associate, or margin=None"
+        )
     name, opts = _score_options(score, score_options)
+    if isinstance(inflation, str):
+        if inflation != "auto":
+            raise GeofeasError(f"inflation: expected 'auto' or a number, got {inflation!r}")
+        infl: float | None = None
+    else:
+        infl = float(inflation)
     options = dict(
         score=score,
         combine=combine,
@@ -572,6 +594,8 @@ correlation_time, window, **score_options
         same_source=bool(same_source),
         correlation_time=float(correlation_time),
         window=float(window),
+        inflation=inflation,
+        margin=margin,
         **score_options,
     )
     index = dict(
@@ -588,6 +612,7 @@ correlation_time, window, **score_options
         horizon=float(horizon),
         process_noise=float(process_noise),
         correlation_time=float(correlation_time),
+        inflation=infl,
         **opts,
     )
     # every option checked by the engine before any work is distributed
@@ -638,12 +663,13 @@ def _run(
 
     nparts = ddf.npartitions
     # 1. per-track boxes from per-partition partial aggregates (no shuffle of the reports)
-    parts = ddf.to_delayed()
-    partial = dask.delayed(_partition_partials, pure=True)
-    results = dask.compute(*[partial(p, i, coords, columns) for i, p in enumerate(parts)])
+    # (each partition is parsed once; the parsed arrays stay on the workers for step 3)
+    partial = dask.delayed(_partition_partials, pure=True, nout=3)
+    stage = dask.persist(*[partial(p, i, coords, columns) for i, p in enumerate(ddf.to_delayed())])
+    aggs, ends = dask.compute([s[1] for s in stage], [s[2] for s in stage])
     tracks = _combine(
-        [r[0] for r in results],
-        [r[1] for r in results],
+        list(aggs),
+        list(ends),
         coords,
         max_gap=index["max_gap"],
         horizon=index["horizon"],
@@ -679,16 +705,12 @@ def _run(
     n_tiles = int(np.unique(keys).size)
 
     # 3. reports, as numbers, copied into tiles; one shuffle; each tile scores the pairs it owns
-    tiled = ddf.map_partitions(
-        _to_tiles,
-        coords,
-        columns,
-        track_ids,
-        sources,
-        first_copy,
-        copies,
-        keys,
+    shared = dask.delayed((track_ids, sources, first_copy, copies, keys), pure=True)
+    to_tiles = dask.delayed(_to_tiles, pure=True)
+    tiled = dd.from_delayed(
+        [to_tiles(s[0], i, coords, shared) for i, s in enumerate(stage)],
         meta=_tiles_meta(coords),
+        verify_meta=False,
     )
     tiled = tiled.shuffle("_tile", npartitions=max(1, min(n_tiles, 4 * nparts)))
     scored = tiled.map_partitions(
@@ -729,17 +751,25 @@ def _gather(
         if (np.diff(key) == 0).any():  # pragma: no cover - ownership makes this impossible
             raise GeofeasError("internal: a candidate pair was scored in two tiles")
     a, b, score, instants = a[keep], b[keep], score[keep], instants[keep]
+    sum_m = pairs["sum_m"].to_numpy(np.float64)[keep]
+    k_eff = pairs["k_eff"].to_numpy(np.float64)[keep]
     sources, inverse = np.unique(tracks["source"].to_numpy(), return_inverse=True)
     source: NDArray[np.uint32] = np.ascontiguousarray(inverse.reshape(-1), dtype=np.uint32)
     start = tracks["start"].to_numpy(np.float64)
     end = tracks["end"].to_numpy(np.float64)
-    klass, obj = _core.association_group(
+    infl = options["inflation"]
+    done = _core.association_finish(
         np.ascontiguousarray(source),
         np.ascontiguousarray(start),
         np.ascontiguousarray(end),
         np.ascontiguousarray(a),
         np.ascontiguousarray(b),
         np.ascontiguousarray(score),
+        np.ascontiguousarray(instants, dtype=np.uint32),
+        np.ascontiguousarray(sum_m),
+        np.ascontiguousarray(k_eff),
+        combine=options["combine"],
+        inflation=None if isinstance(infl, str) else float(infl),
         lower=options["lower"],
         upper=options["upper"],
     )
@@ -756,13 +786,5 @@ def _gather(
         time=np.ascontiguousarray(tracks["first_time"].to_numpy(np.float64)),
         aou=np.ascontiguousarray(first[list(names)].to_numpy(np.float64)),
     )
-    raw = {
-        "a": a,
-        "b": b,
-        "score": score,
-        "instants": instants.astype(np.uint32),
-        "class": klass,
-        "object": obj,
-        "candidates": candidates,
-    }
+    raw = dict(done, a=a, b=b, instants=instants.astype(np.uint32), candidates=candidates)
     return DistributedAssociation(track_reports, raw, options, tracks, tiles)

@@ -1,11 +1,20 @@
-//! Bindings for distributed association (`geofeas.dask`): the global triage and grouping step
-//! (`crate::association::assign::group`) on pairs scored elsewhere, e.g. tile by tile.
+//! Bindings for distributed association (`geofeas.dask`): the per-pair summaries a tile
+//! computes (`crate::association::score_pairs`), and the global steps run once on the gathered
+//! pairs — the covariance inflation of the chi-square rules estimated per pair of sources
+//! (`combine::estimate_inflation`) and the triage and grouping (`assign::group`) — exactly as
+//! the tail of `crate::association::associate` does them.
 
-use numpy::{IntoPyArray, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
+use super::{check_signals, detached};
 use crate::association::assign::{self, TrackInfo};
+use crate::association::{
+    self, combine, Alignment, Combine, Coords, IndexOptions, Options, Reports,
+};
 use crate::error::Error;
+use crate::score::{self, Score};
 
 fn slice<'a, T: numpy::Element>(
     what: &'static str,
@@ -33,22 +42,46 @@ fn association_group<'py>(
     lower: f64,
     upper: f64,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-    let (src, t0, t1) = (
+    let (sa, sb, ss) = (slice("a", &a)?, slice("b", &b)?, slice("score", &score)?);
+    if sb.len() != sa.len() || ss.len() != sa.len() {
+        return Err(Error::Invalid("a, b and score must have the same length".into()).into());
+    }
+    let pairs: Vec<(u32, u32)> = sa.iter().copied().zip(sb.iter().copied()).collect();
+    let (class, object) = group_checked(
+        py,
         slice("source", &source)?,
         slice("start", &start)?,
         slice("end", &end)?,
-    );
-    let (sa, sb, ss) = (slice("a", &a)?, slice("b", &b)?, slice("score", &score)?);
+        &pairs,
+        ss,
+        lower,
+        upper,
+    )?;
+    Ok((
+        class.into_pyarray(py).into_any(),
+        object.into_pyarray(py).into_any(),
+    ))
+}
+
+/// `assign::group` after checking lengths, indices and thresholds; classes as `u8`.
+#[allow(clippy::too_many_arguments)]
+fn group_checked(
+    py: Python<'_>,
+    src: &[u32],
+    t0: &[f64],
+    t1: &[f64],
+    pairs: &[(u32, u32)],
+    scores: &[f64],
+    lower: f64,
+    upper: f64,
+) -> PyResult<(Vec<u8>, Vec<u32>)> {
     if t0.len() != src.len() || t1.len() != src.len() {
         return Err(
             Error::Invalid("source, start and end must have the same length".into()).into(),
         );
     }
-    if sb.len() != sa.len() || ss.len() != sa.len() {
-        return Err(Error::Invalid("a, b and score must have the same length".into()).into());
-    }
     let n = src.len();
-    for (row, (&x, &y)) in sa.iter().zip(sb).enumerate() {
+    for (row, &(x, y)) in pairs.iter().enumerate() {
         if x as usize >= n || y as usize >= n || x == y {
             return Err(Error::Invalid(format!(
                 "pair row {row}: tracks ({x}, {y}) must be two distinct indices in 0..{n}"
@@ -69,16 +102,261 @@ fn association_group<'py>(
             end: t1[t],
         })
         .collect();
+    let (class, object) = py.detach(|| assign::group(&tracks, pairs, scores, lower, upper));
+    Ok((class.iter().map(|&c| c as u8).collect(), object))
+}
+
+fn rows5(arr: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 5]>> {
+    let shape = arr.shape();
+    if shape[1] != 5 {
+        return Err(Error::Shape {
+            what: "aou",
+            expected: "(n, 5)".into(),
+            got: format!("{shape:?}"),
+        }
+        .into());
+    }
+    let flat = arr
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("aou: {e}")))?;
+    Ok(flat
+        .chunks_exact(5)
+        .map(|c| [c[0], c[1], c[2], c[3], c[4]])
+        .collect())
+}
+
+/// Per pair `(a, b)`: the combined score (with `inflation`, 1 when `None`), the number of
+/// instants, the summed squared distances and the effective number of instants.
+#[pyfunction]
+#[pyo3(signature = (track, source, time, aou, n_tracks, a, b, *, geographic, score="glr",
+    combine="chi2", max_gap=300.0, horizon=0.0, process_noise=2.0, correlation_time=60.0,
+    threshold=false, method="polygon", vertices=256, samples=500, seed=0, inflation=None))]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+fn association_pair_stats<'py>(
+    py: Python<'py>,
+    track: PyReadonlyArray1<'py, u32>,
+    source: PyReadonlyArray1<'py, u32>,
+    time: PyReadonlyArray1<'py, f64>,
+    aou: PyReadonlyArray2<'py, f64>,
+    n_tracks: usize,
+    a: PyReadonlyArray1<'py, u32>,
+    b: PyReadonlyArray1<'py, u32>,
+    geographic: bool,
+    score: &str,
+    combine: &str,
+    max_gap: f64,
+    horizon: f64,
+    process_noise: f64,
+    correlation_time: f64,
+    threshold: bool,
+    method: &str,
+    vertices: usize,
+    samples: usize,
+    seed: u64,
+    inflation: Option<f64>,
+) -> PyResult<(
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+)> {
+    let coords = if geographic {
+        Coords::Geographic
+    } else {
+        Coords::Planar
+    };
+    let rows = rows5(&aou)?;
+    let r = Reports::new(
+        coords,
+        n_tracks,
+        slice("track", &track)?,
+        slice("source", &source)?,
+        slice("time", &time)?,
+        &rows,
+    )?;
+    let o = Options {
+        score: Score::from_name(
+            score,
+            &score::Options {
+                threshold,
+                method: method.to_string(),
+                vertices,
+                samples,
+                seed,
+            },
+        )?,
+        combine: Combine::from_name(combine)?,
+        lower: 0.5,
+        upper: combine::default_upper(),
+        align: Alignment {
+            max_gap,
+            horizon,
+            process_noise,
+        },
+        correlation_time,
+        index: IndexOptions::default(),
+        inflation,
+        margin: None,
+    }
+    .validated()?;
+    let (sa, sb) = (slice("a", &a)?, slice("b", &b)?);
+    if sa.len() != sb.len() {
+        return Err(Error::LengthMismatch {
+            left: sa.len(),
+            right: sb.len(),
+        }
+        .into());
+    }
+    for (row, (&x, &y)) in sa.iter().zip(sb).enumerate() {
+        if x as usize >= n_tracks || y as usize >= n_tracks {
+            return Err(Error::Invalid(format!(
+                "pair row {row}: track index out of range 0..{n_tracks}"
+            ))
+            .into());
+        }
+    }
     let pairs: Vec<(u32, u32)> = sa.iter().copied().zip(sb.iter().copied()).collect();
-    let (class, object) = py.detach(|| assign::group(&tracks, &pairs, ss, lower, upper));
-    let class: Vec<u8> = class.iter().map(|&c| c as u8).collect();
+    let out = detached(py, || {
+        association::score_pairs(&r, &pairs, &o, &mut check_signals)
+    })?;
+    let score: Vec<f64> = out.iter().map(|p| p.score).collect();
+    let instants: Vec<u32> = out.iter().map(|p| p.instants).collect();
+    let sum_m: Vec<f64> = out.iter().map(|p| p.sum_m).collect();
+    let k_eff: Vec<f64> = out.iter().map(|p| p.k_eff).collect();
     Ok((
-        class.into_pyarray(py).into_any(),
-        object.into_pyarray(py).into_any(),
+        score.into_pyarray(py).into_any(),
+        instants.into_pyarray(py).into_any(),
+        sum_m.into_pyarray(py).into_any(),
+        k_eff.into_pyarray(py).into_any(),
     ))
+}
+
+/// The global steps of `associate` on gathered pairs `(a, b)` (sorted, `a < b`, each with at
+/// least one instant): for the chi-square rules the inflation per pair of sources (given, or
+/// estimated when `inflation` is `None`, then every score recomputed from its summary), then
+/// the triage and grouping. Returns a dict: `score`, `class`, `object`, `inflation_a`,
+/// `inflation_b`, `inflation`.
+#[pyfunction]
+#[pyo3(signature = (source, start, end, a, b, score, instants, sum_m, k_eff, *, combine,
+    inflation, lower, upper))]
+#[allow(clippy::too_many_arguments)]
+fn association_finish<'py>(
+    py: Python<'py>,
+    source: PyReadonlyArray1<'py, u32>,
+    start: PyReadonlyArray1<'py, f64>,
+    end: PyReadonlyArray1<'py, f64>,
+    a: PyReadonlyArray1<'py, u32>,
+    b: PyReadonlyArray1<'py, u32>,
+    score: PyReadonlyArray1<'py, f64>,
+    instants: PyReadonlyArray1<'py, u32>,
+    sum_m: PyReadonlyArray1<'py, f64>,
+    k_eff: PyReadonlyArray1<'py, f64>,
+    combine: &str,
+    inflation: Option<f64>,
+    lower: f64,
+    upper: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let rule = Combine::from_name(combine)?;
+    let src = slice("source", &source)?;
+    let (sa, sb) = (slice("a", &a)?, slice("b", &b)?);
+    let (ss, sk, sm, se) = (
+        slice("score", &score)?,
+        slice("instants", &instants)?,
+        slice("sum_m", &sum_m)?,
+        slice("k_eff", &k_eff)?,
+    );
+    let n = sa.len();
+    if [sb.len(), ss.len(), sk.len(), sm.len(), se.len()]
+        .iter()
+        .any(|&l| l != n)
+    {
+        return Err(Error::Invalid(
+            "a, b, score, instants, sum_m and k_eff must have the same length".into(),
+        )
+        .into());
+    }
+    for (row, (&x, &y)) in sa.iter().zip(sb).enumerate() {
+        if x as usize >= src.len() || y as usize >= src.len() {
+            return Err(Error::Invalid(format!(
+                "pair row {row}: track index out of range 0..{}",
+                src.len()
+            ))
+            .into());
+        }
+    }
+    let kept: Vec<(u32, u32)> = sa.iter().copied().zip(sb.iter().copied()).collect();
+    let stats: Vec<(f64, f64, f64)> = (0..n).map(|i| (sm[i], sk[i] as f64, se[i])).collect();
+    let mut scores = ss.to_vec();
+    let mut groups: Vec<(u32, u32, f64)> = Vec::new();
+    if rule.is_chi2() {
+        groups = match inflation {
+            Some(c) => {
+                let mut g: Vec<(u32, u32, f64)> = kept
+                    .iter()
+                    .map(|&(x, y)| {
+                        let (p, q) = (src[x as usize], src[y as usize]);
+                        (p.min(q), p.max(q), c)
+                    })
+                    .collect();
+                g.sort_by_key(|x| (x.0, x.1));
+                g.dedup_by(|x, y| (x.0, x.1) == (y.0, y.1));
+                g
+            }
+            None => {
+                let est = combine::estimate_inflation(&kept, src, &stats);
+                for (i, &(x, y)) in kept.iter().enumerate() {
+                    let (p, q) = (src[x as usize], src[y as usize]);
+                    let key = (p.min(q), p.max(q));
+                    let c = est
+                        .binary_search_by(|e| (e.0, e.1).cmp(&key))
+                        .map_or(1.0, |j| est[j].2);
+                    let (m, k, ke) = stats[i];
+                    scores[i] = rule.from_summary(m / c, k, ke);
+                }
+                est
+            }
+        };
+    }
+    let d = association_group_dict(py, source, start, end, &kept, &scores, lower, upper)?;
+    let (ga, (gb, gc)): (Vec<u32>, (Vec<u32>, Vec<f64>)) =
+        groups.iter().map(|&(x, y, c)| (x, (y, c))).unzip();
+    d.set_item("score", scores.into_pyarray(py))?;
+    d.set_item("inflation_a", ga.into_pyarray(py))?;
+    d.set_item("inflation_b", gb.into_pyarray(py))?;
+    d.set_item("inflation", gc.into_pyarray(py))?;
+    Ok(d)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn association_group_dict<'py>(
+    py: Python<'py>,
+    source: PyReadonlyArray1<'py, u32>,
+    start: PyReadonlyArray1<'py, f64>,
+    end: PyReadonlyArray1<'py, f64>,
+    pairs: &[(u32, u32)],
+    scores: &[f64],
+    lower: f64,
+    upper: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (class, object) = group_checked(
+        py,
+        slice("source", &source)?,
+        slice("start", &start)?,
+        slice("end", &end)?,
+        pairs,
+        scores,
+        lower,
+        upper,
+    )?;
+    let d = PyDict::new(py);
+    d.set_item("class", class.into_pyarray(py))?;
+    d.set_item("object", object.into_pyarray(py))?;
+    Ok(d)
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(association_group, m)?)?;
+    m.add_function(wrap_pyfunction!(association_pair_stats, m)?)?;
+    m.add_function(wrap_pyfunction!(association_finish, m)?)?;
     Ok(())
 }
