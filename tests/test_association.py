@@ -342,6 +342,33 @@ def test_every_per_instant_score_ranks_the_true_pair_first(rng, score, options):
     assert p[("ais-1", "radar-1")] > other
 
 
+def test_a_vague_track_does_not_chain_two_ships():
+    # Two ships 400 m apart, each seen by AIS and a radar, and a direction-finding track with a
+    # 10 km AOU, halfway between them, consistent with both: merged by score alone its pairs
+    # would merge first and chain the ships, refusing a precise AIS-radar pair (it does for this
+    # seed when the merges go by score alone).
+    rng = np.random.default_rng(16)
+    frame = pd.concat(
+        [
+            straight_track(rng, "ais-A", "ais", (0, 0), (6, 0), 10, 10),
+            straight_track(rng, "radar-A", "radar", (0, 0), (6, 0), 3, 25),
+            straight_track(rng, "ais-B", "ais", (0, 400), (6, 0), 10, 10),
+            straight_track(rng, "radar-B", "radar", (0, 400), (6, 0), 3, 25),
+            straight_track(rng, "hfdf-A", "hfdf", (0, 200), (6, 0), 60, 5000),
+        ]
+    )
+    res = geofeas.associate(frame)
+    p = res.pairs.set_index(["track_a", "track_b"])
+    # the vague pairs score at least as high as the precise ones
+    assert p.loc[("ais-B", "hfdf-A"), "score"] > p.loc[("ais-A", "radar-A"), "score"]
+    assert p.loc[("ais-A", "radar-A"), "class"] == "match"
+    assert p.loc[("ais-B", "radar-B"), "class"] == "match"
+    obj = res.objects.set_index("track_id")["object"]
+    assert obj["ais-A"] == obj["radar-A"] != obj["ais-B"] == obj["radar-B"]
+    # the vague track joins at most one ship
+    assert sum(obj["hfdf-A"] == obj[t] for t in ("ais-A", "ais-B")) <= 1
+
+
 def test_renumbered_tracks_form_one_object_and_overlaps_are_refused(rng):
     frame = pd.concat(
         [

@@ -313,10 +313,11 @@ def association_pair_stats(
     process_noise: float = 2.0,
     correlation_time: float = 60.0,
     threshold: bool = False,
-    method: str = "polygon",
+    method: str = "exact",
     vertices: int = 256,
     samples: int = 500,
     seed: int = 0,
+    sampler: str = "importance",
     inflation: float | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.uint32], NDArray[np.float64], NDArray[np.float64]]: ...
 def association_finish(
@@ -334,6 +335,7 @@ def association_finish(
     inflation: float | None,
     lower: float,
     upper: float,
+    spread: NDArray[np.float64] | None = None,
 ) -> dict[str, Any]: ...
 def association_group(
     source: NDArray[np.uint32],
@@ -345,4 +347,5 @@ def association_group(
     *,
     lower: float,
     upper: float,
+    spread: NDArray[np.float64] | None = None,
 ) -> tuple[NDArray[np.uint8], NDArray[np.uint32]]: ...

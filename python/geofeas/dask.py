@@ -137,6 +137,7 @@ def _partials(rep: Reports) -> tuple[pd.DataFrame, pd.DataFrame]:
     last = np.r_[first[1:] - 1, n - 1] if n else np.zeros(0, np.int64)
     ps, ts = p[order], rep.time[order]
     r = np.maximum(rep.aou[order, 2], rep.aou[order, 3])
+    area = rep.aou[order, 2] * rep.aou[order, 3]
     agg: dict[str, Any] = {
         "track_id": rep.track_ids[c[first]] if n else rep.track_ids[:0],
         "source": rep.sources[rep.source[order][first]] if n else rep.sources[:0],
@@ -144,6 +145,9 @@ def _partials(rep: Reports) -> tuple[pd.DataFrame, pd.DataFrame]:
         "tmin": ts[first],
         "tmax": ts[last],
         "rmax": np.maximum.reduceat(r, first) if n else np.zeros(0),
+        # the extremes of rx * ry: the engine's typical AOU size of the track (merge order)
+        "amin": np.minimum.reduceat(area, first) if n else np.zeros(0),
+        "amax": np.maximum.reduceat(area, first) if n else np.zeros(0),
     }
     for k in range(d):
         agg[f"pmin{k}"] = np.minimum.reduceat(ps[:, k], first) if n else np.zeros(0)
@@ -176,7 +180,15 @@ def _combine(
     d = 3 if geo else 2
     q, h, big_r = float(process_noise), float(horizon), _MIN_CURVATURE_RADIUS
     agg = pd.concat(aggs, ignore_index=True)
-    how = {"reports": "sum", "tmin": "min", "tmax": "max", "rmax": "max", "source": "first"}
+    how = {
+        "reports": "sum",
+        "tmin": "min",
+        "tmax": "max",
+        "rmax": "max",
+        "amin": "min",
+        "amax": "max",
+        "source": "first",
+    }
     for k in range(d):
         how[f"pmin{k}"] = "min"
         how[f"pmax{k}"] = "max"
@@ -242,6 +254,8 @@ def _combine(
         "end": tmax,
         "reports": tr["reports"].to_numpy(np.int64),
         "halo": grow,
+        "area_min": tr["amin"].to_numpy(np.float64),
+        "area_max": tr["amax"].to_numpy(np.float64),
     }
     for j in range(d):
         out[f"lo{j}"] = pmin[:, j] - grow
@@ -757,6 +771,10 @@ def _gather(
     source: NDArray[np.uint32] = np.ascontiguousarray(inverse.reshape(-1), dtype=np.uint32)
     start = tracks["start"].to_numpy(np.float64)
     end = tracks["end"].to_numpy(np.float64)
+    # as the engine's assign::TrackInfo::spread_of, bit for bit
+    spread = 0.25 * np.sqrt(
+        tracks["area_min"].to_numpy(np.float64) * tracks["area_max"].to_numpy(np.float64)
+    )
     infl = options["inflation"]
     done = _core.association_finish(
         np.ascontiguousarray(source),
@@ -772,6 +790,7 @@ def _gather(
         inflation=None if isinstance(infl, str) else float(infl),
         lower=options["lower"],
         upper=options["upper"],
+        spread=np.ascontiguousarray(spread),
     )
     names = PLANAR if coords == "planar" else GEOGRAPHIC
     first = tracks[["track_id", "source", "first_time"] + [f"first_{n}" for n in names]]

@@ -10,9 +10,20 @@
 //! candidates into objects greedily by decreasing score (ties by track ids), with the
 //! cannot-link constraint "no object holds two tracks of the same source whose time spans
 //! overlap"; a candidate whose merge would break it is demoted to `borderline` for the operator.
-//! Greedy merging by decreasing score is the standard constrained agglomeration (single
-//! linkage with cannot-links); it is exact when the candidates of each object form a tree, and
-//! never produces an infeasible object.
+//! Greedy merging is the standard constrained agglomeration (single linkage with cannot-links);
+//! it is exact when the candidates of each object form a tree, and never produces an infeasible
+//! object.
+//!
+//! **Merge order: the most specific evidence first.** A pair's score says how *consistent* its
+//! two tracks are, not how *specific* that is: an HF direction-finding fix kilometres long is
+//! consistent with every ship of a harbour and scores near 1. Merged first, such pairs chain
+//! distinct ships into one object, and the cannot-link then refuses the right pairs. The merges
+//! therefore go by the Gaussian likelihood of the pair, which keeps its normaliser: per instant
+//! `-2 ln N(d; 0, S) = m + ln det S + const`, with `m` the single-instant equivalent distance of
+//! the combined score (`m_eq = -9 log2(score)` on the [`crate::association::combine::Combine::
+//! Chi2`] scale) and `ln det S ~ 2 ln(spread_a + spread_b)` from the tracks' typical AOU sizes
+//! (exact for two circles). Pairs of equally precise sources are ordered as by score; a precise
+//! pair goes before a vague one of the same score.
 //!
 //! [`assign_one_to_one`] solves the classical assignment between two sources that maximises the
 //! total score over the sparse candidate graph: per connected component, the dense
@@ -45,6 +56,17 @@ pub struct TrackInfo {
     pub source: u32,
     pub start: f64,
     pub end: f64,
+    /// The track's typical AOU size `sqrt(det R)` (m^2), from the smallest and largest `rx * ry`
+    /// of its reports: `sqrt(min * max) / 4` (see [`TrackInfo::spread_of`]); 0 when unknown, and
+    /// the grouping then orders by score alone.
+    pub spread: f64,
+}
+
+impl TrackInfo {
+    /// `spread` from the smallest and largest `rx * ry` of a track's reports.
+    pub fn spread_of(area_min: f64, area_max: f64) -> f64 {
+        0.25 * (area_min * area_max).sqrt()
+    }
 }
 
 fn overlap(a: &TrackInfo, b: &TrackInfo) -> bool {
@@ -114,6 +136,18 @@ pub fn rivals(
         .collect()
 }
 
+/// The merge priority of a match candidate (smaller first): `m_eq + 2 ln(spread_a + spread_b)`,
+/// or `m_eq` alone when a spread is unknown (see the module docs).
+pub fn merge_key(tracks: &[TrackInfo], (a, b): (u32, u32), score: f64) -> f64 {
+    let m_eq = -9.0 * score.log2();
+    let (sa, sb) = (tracks[a as usize].spread, tracks[b as usize].spread);
+    if sa > 0.0 && sb > 0.0 {
+        m_eq + 2.0 * (sa + sb).ln()
+    } else {
+        m_eq
+    }
+}
+
 /// [`group`] where the match candidates flagged in `unclear` (ambiguous ones, see
 /// `association::ambiguous`) are `borderline` and take no part in the grouping. An empty
 /// `unclear` flags none.
@@ -152,11 +186,10 @@ pub fn group_unambiguous(
     let mut order: Vec<usize> = (0..pairs.len())
         .filter(|&k| class[k] == Class::Match)
         .collect();
-    order.sort_by(|&i, &j| {
-        scores[j]
-            .total_cmp(&scores[i])
-            .then(pairs[i].cmp(&pairs[j]))
-    });
+    let keys: Vec<f64> = (0..pairs.len())
+        .map(|k| merge_key(tracks, pairs[k], scores[k]))
+        .collect();
+    order.sort_by(|&i, &j| keys[i].total_cmp(&keys[j]).then(pairs[i].cmp(&pairs[j])));
     let mut root: Vec<u32> = (0..n as u32).collect();
     let mut members: Vec<Vec<u32>> = (0..n as u32).map(|t| vec![t]).collect();
     for k in order {
@@ -348,7 +381,12 @@ mod tests {
     use super::*;
 
     fn info(source: u32, start: f64, end: f64) -> TrackInfo {
-        TrackInfo { source, start, end }
+        TrackInfo {
+            source,
+            start,
+            end,
+            spread: 0.0,
+        }
     }
 
     #[test]

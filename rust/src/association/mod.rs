@@ -340,10 +340,12 @@ pub fn associate(r: &Reports, o: &Options, interrupt: Interrupt<'_>) -> Result<A
     let tracks: Vec<assign::TrackInfo> = (0..r.n_tracks)
         .map(|t| {
             let (start, end) = r.span(t);
+            let (area_min, area_max) = r.area_range(t);
             assign::TrackInfo {
                 source: r.source[t],
                 start,
                 end,
+                spread: assign::TrackInfo::spread_of(area_min, area_max),
             }
         })
         .collect();

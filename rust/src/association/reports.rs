@@ -53,6 +53,8 @@ pub struct Reports {
     pub state: Vec<State>,
     /// Largest 2-sigma semi-axis of each report (metres).
     pub radius: Vec<f64>,
+    /// `rx * ry` of each report (m^2): its AOU area over pi.
+    pub area: Vec<f64>,
     /// Index-space point of each report: `(x, y, 0)` planar, ECEF metres geographic.
     pub point: Vec<[f64; 3]>,
     /// The caller's row of each sorted report.
@@ -177,6 +179,7 @@ impl Reports {
         }
         let mut state = Vec::with_capacity(n);
         let mut radius = Vec::with_capacity(n);
+        let mut area = Vec::with_capacity(n);
         let mut point = Vec::with_capacity(n);
         let mut times = Vec::with_capacity(n);
         for &i in &order {
@@ -192,6 +195,7 @@ impl Reports {
             };
             state.push(State { pos, cov: g.cov });
             radius.push(rx.max(ry));
+            area.push(rx * ry);
             point.push(match coords {
                 Coords::Planar => [a, b, 0.0],
                 Coords::Geographic => geodesy::ecef(pos[0], pos[1]),
@@ -206,9 +210,20 @@ impl Reports {
             time: times,
             state,
             radius,
+            area,
             point,
             row: order,
         })
+    }
+
+    /// The smallest and largest `rx * ry` of the reports of track `t` (`(0, 0)` without reports).
+    pub fn area_range(&self, t: usize) -> (f64, f64) {
+        self.area[self.offsets[t]..self.offsets[t + 1]]
+            .iter()
+            .fold(None, |acc: Option<(f64, f64)>, &x| {
+                Some(acc.map_or((x, x), |(lo, hi)| (lo.min(x), hi.max(x))))
+            })
+            .unwrap_or((0.0, 0.0))
     }
 
     /// Number of reports.

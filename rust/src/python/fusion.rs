@@ -29,7 +29,7 @@ fn slice<'a, T: numpy::Element>(
 /// the object of every track, from the tracks' sources and time spans: the same triage and
 /// grouping as the last step of `associate`.
 #[pyfunction]
-#[pyo3(signature = (source, start, end, a, b, score, *, lower, upper))]
+#[pyo3(signature = (source, start, end, a, b, score, *, lower, upper, spread=None))]
 #[allow(clippy::too_many_arguments)]
 fn association_group<'py>(
     py: Python<'py>,
@@ -41,7 +41,9 @@ fn association_group<'py>(
     score: PyReadonlyArray1<'py, f64>,
     lower: f64,
     upper: f64,
+    spread: Option<PyReadonlyArray1<'py, f64>>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    let spread = spread.as_ref().map(|s| slice("spread", s)).transpose()?;
     let (sa, sb, ss) = (slice("a", &a)?, slice("b", &b)?, slice("score", &score)?);
     if sb.len() != sa.len() || ss.len() != sa.len() {
         return Err(Error::Invalid("a, b and score must have the same length".into()).into());
@@ -56,6 +58,7 @@ fn association_group<'py>(
         ss,
         lower,
         upper,
+        spread,
     )?;
     Ok((
         class.into_pyarray(py).into_any(),
@@ -74,11 +77,16 @@ fn group_checked(
     scores: &[f64],
     lower: f64,
     upper: f64,
+    spread: Option<&[f64]>,
 ) -> PyResult<(Vec<u8>, Vec<u32>)> {
-    if t0.len() != src.len() || t1.len() != src.len() {
-        return Err(
-            Error::Invalid("source, start and end must have the same length".into()).into(),
-        );
+    if t0.len() != src.len()
+        || t1.len() != src.len()
+        || spread.is_some_and(|s| s.len() != src.len())
+    {
+        return Err(Error::Invalid(
+            "source, start, end (and spread) must have the same length".into(),
+        )
+        .into());
     }
     let n = src.len();
     for (row, &(x, y)) in pairs.iter().enumerate() {
@@ -100,6 +108,7 @@ fn group_checked(
             source: src[t],
             start: t0[t],
             end: t1[t],
+            spread: spread.map_or(0.0, |s| s[t]),
         })
         .collect();
     let (class, object) = py.detach(|| assign::group(&tracks, pairs, scores, lower, upper));
@@ -130,7 +139,8 @@ fn rows5(arr: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 5]>> {
 #[pyfunction]
 #[pyo3(signature = (track, source, time, aou, n_tracks, a, b, *, geographic, score="glr",
     combine="chi2", max_gap=300.0, horizon=0.0, process_noise=2.0, correlation_time=60.0,
-    threshold=false, method="polygon", vertices=256, samples=500, seed=0, inflation=None))]
+    threshold=false, method="exact", vertices=256, samples=500, seed=0, sampler="importance",
+    inflation=None))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn association_pair_stats<'py>(
     py: Python<'py>,
@@ -153,6 +163,7 @@ fn association_pair_stats<'py>(
     vertices: usize,
     samples: usize,
     seed: u64,
+    sampler: &str,
     inflation: Option<f64>,
 ) -> PyResult<(
     Bound<'py, PyAny>,
@@ -183,6 +194,7 @@ fn association_pair_stats<'py>(
                 vertices,
                 samples,
                 seed,
+                sampler: sampler.to_string(),
             },
         )?,
         combine: Combine::from_name(combine)?,
@@ -238,7 +250,7 @@ fn association_pair_stats<'py>(
 /// `inflation_b`, `inflation`.
 #[pyfunction]
 #[pyo3(signature = (source, start, end, a, b, score, instants, sum_m, k_eff, *, combine,
-    inflation, lower, upper))]
+    inflation, lower, upper, spread=None))]
 #[allow(clippy::too_many_arguments)]
 fn association_finish<'py>(
     py: Python<'py>,
@@ -255,7 +267,9 @@ fn association_finish<'py>(
     inflation: Option<f64>,
     lower: f64,
     upper: f64,
+    spread: Option<PyReadonlyArray1<'py, f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let spread = spread.as_ref().map(|s| slice("spread", s)).transpose()?;
     let rule = Combine::from_name(combine)?;
     let src = slice("source", &source)?;
     let (sa, sb) = (slice("a", &a)?, slice("b", &b)?);
@@ -317,7 +331,7 @@ fn association_finish<'py>(
             }
         };
     }
-    let d = association_group_dict(py, source, start, end, &kept, &scores, lower, upper)?;
+    let d = association_group_dict(py, source, start, end, &kept, &scores, lower, upper, spread)?;
     let (ga, (gb, gc)): (Vec<u32>, (Vec<u32>, Vec<f64>)) =
         groups.iter().map(|&(x, y, c)| (x, (y, c))).unzip();
     d.set_item("score", scores.into_pyarray(py))?;
@@ -337,6 +351,7 @@ fn association_group_dict<'py>(
     scores: &[f64],
     lower: f64,
     upper: f64,
+    spread: Option<&[f64]>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (class, object) = group_checked(
         py,
@@ -347,6 +362,7 @@ fn association_group_dict<'py>(
         scores,
         lower,
         upper,
+        spread,
     )?;
     let d = PyDict::new(py);
     d.set_item("class", class.into_pyarray(py))?;
