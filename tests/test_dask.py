@@ -188,6 +188,9 @@ def test_cluster_estimated_inflation_of_understated_aous(client):
         dict(score="overlap", combine="geometric"),
         dict(score="glr_threshold", combine="harmonic", lower=0.2, upper=0.4),
         dict(same_source=True, combine="pvalue", correlation_time=0.0),
+        # seeded: a tile draws each pair's stream from the picture's track ids
+        dict(score="monte_carlo", combine="arithmetic", samples=64, seed=5),
+        dict(score="monte_carlo", combine="arithmetic", samples=32, sampler="sobol", seed=2),
     ],
 )
 def test_cluster_other_scores_and_options(client, planar, options):

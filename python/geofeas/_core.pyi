@@ -319,6 +319,7 @@ def association_pair_stats(
     seed: int = 0,
     sampler: str = "importance",
     inflation: float | None = None,
+    stream_ids: NDArray[np.uint32] | None = None,
 ) -> tuple[NDArray[np.float64], NDArray[np.uint32], NDArray[np.float64], NDArray[np.float64]]: ...
 def association_finish(
     source: NDArray[np.uint32],

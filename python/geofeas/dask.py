@@ -471,6 +471,7 @@ def _score_tiles(
             np.ascontiguousarray(a[mine]),
             np.ascontiguousarray(b[mine]),
             geographic=geographic,
+            stream_ids=np.ascontiguousarray(gid, dtype=np.uint32),
             **scoring,
         )
         out.append(

@@ -190,7 +190,7 @@ pub fn pair_instants(r: &Reports, a: usize, b: usize, o: &Options) -> PairInstan
             let m = mahalanobis2(&Frame::new(&ea), &Frame::new(&eb));
             ((-0.5 * m).exp(), m)
         } else {
-            let g = o.score.one(&ea, &eb, mix(a as u32, b as u32, k));
+            let g = o.score.one(&ea, &eb, mix(r.stream[a], r.stream[b], k));
             (
                 g,
                 if g > 0.0 {

@@ -55,6 +55,10 @@ pub struct Reports {
     pub radius: Vec<f64>,
     /// `rx * ry` of each report (m^2): its AOU area over pi.
     pub area: Vec<f64>,
+    /// The id of each track in the random streams of seeded scores (by default the track's
+    /// index; a subset of a larger picture keeps the picture's ids, see
+    /// [`Reports::with_stream_ids`]).
+    pub stream: Vec<u32>,
     /// Index-space point of each report: `(x, y, 0)` planar, ECEF metres geographic.
     pub point: Vec<[f64; 3]>,
     /// The caller's row of each sorted report.
@@ -211,9 +215,24 @@ impl Reports {
             state,
             radius,
             area,
+            stream: (0..n_tracks as u32).collect(),
             point,
             row: order,
         })
+    }
+
+    /// The same reports with `ids` as the tracks' ids in the random streams of seeded scores
+    /// (one per track): a tile of a larger picture scores its pairs with the picture's streams.
+    pub fn with_stream_ids(mut self, ids: &[u32]) -> Result<Self> {
+        if ids.len() != self.n_tracks {
+            return Err(Error::Invalid(format!(
+                "stream ids: expected one per track ({}), got {}",
+                self.n_tracks,
+                ids.len()
+            )));
+        }
+        self.stream = ids.to_vec();
+        Ok(self)
     }
 
     /// The smallest and largest `rx * ry` of the reports of track `t` (`(0, 0)` without reports).

@@ -140,7 +140,7 @@ fn rows5(arr: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 5]>> {
 #[pyo3(signature = (track, source, time, aou, n_tracks, a, b, *, geographic, score="glr",
     combine="chi2", max_gap=300.0, horizon=0.0, process_noise=2.0, correlation_time=60.0,
     threshold=false, method="exact", vertices=256, samples=500, seed=0, sampler="importance",
-    inflation=None))]
+    inflation=None, stream_ids=None))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn association_pair_stats<'py>(
     py: Python<'py>,
@@ -165,6 +165,7 @@ fn association_pair_stats<'py>(
     seed: u64,
     sampler: &str,
     inflation: Option<f64>,
+    stream_ids: Option<PyReadonlyArray1<'py, u32>>,
 ) -> PyResult<(
     Bound<'py, PyAny>,
     Bound<'py, PyAny>,
@@ -185,6 +186,10 @@ fn association_pair_stats<'py>(
         slice("time", &time)?,
         &rows,
     )?;
+    let r = match &stream_ids {
+        Some(ids) => r.with_stream_ids(slice("stream_ids", ids)?)?,
+        None => r,
+    };
     let o = Options {
         score: Score::from_name(
             score,
