@@ -39,7 +39,7 @@ fn rows5(arr: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 5]>> {
         .collect())
 }
 
-fn reports(
+pub(super) fn reports(
     track: &PyReadonlyArray1<'_, u32>,
     source: &PyReadonlyArray1<'_, u32>,
     time: &PyReadonlyArray1<'_, f64>,
@@ -63,7 +63,7 @@ fn reports(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn options(
+pub(super) fn options(
     score: &str,
     combine: &str,
     lower: f64,

@@ -4,17 +4,14 @@
 //! (`combine::estimate_inflation`) and the triage and grouping (`assign::group`) — exactly as
 //! the tail of `crate::association::associate` does them.
 
-use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use super::{check_signals, detached};
 use crate::association::assign::{self, TrackInfo};
-use crate::association::{
-    self, combine, Alignment, Combine, Coords, IndexOptions, Options, Reports,
-};
+use crate::association::{self, combine, Combine, IndexOptions};
 use crate::error::Error;
-use crate::score::{self, Score};
 
 fn slice<'a, T: numpy::Element>(
     what: &'static str,
@@ -115,25 +112,6 @@ fn group_checked(
     Ok((class.iter().map(|&c| c as u8).collect(), object))
 }
 
-fn rows5(arr: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 5]>> {
-    let shape = arr.shape();
-    if shape[1] != 5 {
-        return Err(Error::Shape {
-            what: "aou",
-            expected: "(n, 5)".into(),
-            got: format!("{shape:?}"),
-        }
-        .into());
-    }
-    let flat = arr
-        .as_slice()
-        .map_err(|e| Error::Invalid(format!("aou: {e}")))?;
-    Ok(flat
-        .chunks_exact(5)
-        .map(|c| [c[0], c[1], c[2], c[3], c[4]])
-        .collect())
-}
-
 /// Per pair `(a, b)`: the combined score (with `inflation`, 1 when `None`), the number of
 /// instants, the summed squared distances and the effective number of instants.
 #[pyfunction]
@@ -172,50 +150,32 @@ fn association_pair_stats<'py>(
     Bound<'py, PyAny>,
     Bound<'py, PyAny>,
 )> {
-    let coords = if geographic {
-        Coords::Geographic
-    } else {
-        Coords::Planar
-    };
-    let rows = rows5(&aou)?;
-    let r = Reports::new(
-        coords,
-        n_tracks,
-        slice("track", &track)?,
-        slice("source", &source)?,
-        slice("time", &time)?,
-        &rows,
-    )?;
+    let r = super::association::reports(&track, &source, &time, &aou, n_tracks, geographic)?;
     let r = match &stream_ids {
         Some(ids) => r.with_stream_ids(slice("stream_ids", ids)?)?,
         None => r,
     };
-    let o = Options {
-        score: Score::from_name(
-            score,
-            &score::Options {
-                threshold,
-                method: method.to_string(),
-                vertices,
-                samples,
-                seed,
-                sampler: sampler.to_string(),
-            },
-        )?,
-        combine: Combine::from_name(combine)?,
-        lower: 0.5,
-        upper: combine::default_upper(),
-        align: Alignment {
-            max_gap,
-            horizon,
-            process_noise,
-        },
+    let index = IndexOptions::default();
+    let o = super::association::options(
+        score,
+        combine,
+        0.5,
+        None,
+        max_gap,
+        horizon,
+        process_noise,
+        index.same_source,
         correlation_time,
-        index: IndexOptions::default(),
+        index.window,
+        threshold,
+        method,
+        vertices,
+        samples,
+        seed,
+        sampler,
         inflation,
-        margin: None,
-    }
-    .validated()?;
+        None,
+    )?;
     let (sa, sb) = (slice("a", &a)?, slice("b", &b)?);
     if sa.len() != sb.len() {
         return Err(Error::LengthMismatch {
