@@ -25,10 +25,24 @@
 //! (exact for two circles). Pairs of equally precise sources are ordered as by score; a precise
 //! pair goes before a vague one of the same score.
 //!
+//! **Crowds.** A match candidate with [`CROWD`] (30) or more match-grade rivals — tracks of the
+//! partner's source, alive at the same time, that its track also fits at or above `upper` — is
+//! `borderline`: no geographic score can single out one of thirty simultaneous ships, and such a
+//! pair would be a guess. The value sits in the wide gap between the sensor classes measured on
+//! the bundled recordings (`docs/association.md`): patrol-aircraft and radar candidates in dense
+//! harbours have a handful of such rivals, an HF direction-finding fix kilometres long has on the
+//! order of a hundred; any value from 20 to 40 classes the same pairs there.
+//!
 //! [`assign_one_to_one`] solves the classical assignment between two sources that maximises the
 //! total score over the sparse candidate graph: per connected component, the dense
 //! Hungarian / Jonker-Volgenant shortest-augmenting-path algorithm on `-score`, with missing
 //! edges forbidden and every track free to stay unassigned.
+
+/// A match candidate with at least this many match-grade rivals (mutually exclusive
+/// alternatives scoring at least `upper`, see [`rivals`]) is ambiguous by geography alone and
+/// goes to the operator as `borderline`: its AOUs are consistent with a crowd of other tracks at
+/// once. See the module docs for how the value was chosen.
+pub const CROWD: usize = 30;
 
 /// Triage class of a pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -178,8 +192,9 @@ pub fn group_unambiguous(
             }
         })
         .collect();
+    let crowd = rivals(tracks, pairs, scores, upper, upper);
     for (k, c) in class.iter_mut().enumerate() {
-        if unclear[k] {
+        if unclear[k] || crowd[k].len() >= CROWD {
             *c = Class::Borderline;
         }
     }
@@ -387,6 +402,26 @@ mod tests {
             end,
             spread: 0.0,
         }
+    }
+
+    #[test]
+    fn a_track_that_fits_a_crowd_is_left_to_the_operator() {
+        // track 0 fits n simultaneous tracks of another source, the first one best
+        let classes = |n: u32| {
+            let mut tracks = vec![info(0, 0.0, 100.0)];
+            tracks.extend((0..n).map(|_| info(1, 0.0, 100.0)));
+            let pairs: Vec<(u32, u32)> = (1..=n).map(|j| (0, j)).collect();
+            let scores: Vec<f64> = (1..=n).map(|j| 0.99 - 0.001 * j as f64).collect();
+            group(&tracks, &pairs, &scores, 0.5, 0.735).0
+        };
+        let few = classes(5);
+        assert_eq!(few[0], Class::Match);
+        assert!(few[1..].iter().all(|&c| c == Class::Borderline));
+        // CROWD rivals: every candidate has n - 1 >= CROWD alternatives
+        let crowd = classes(CROWD as u32 + 1);
+        assert!(crowd.iter().all(|&c| c == Class::Borderline));
+        let just_below = classes(CROWD as u32);
+        assert_eq!(just_below[0], Class::Match);
     }
 
     #[test]
