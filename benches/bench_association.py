@@ -119,7 +119,7 @@ def main() -> None:
     sb = np.where(sb >= sa, sb + 1, sb)
     lo, hi = np.minimum(sa, sb).astype(np.uint32), np.maximum(sa, sb).astype(np.uint32)
     t = time.perf_counter()
-    _, k = _core.association_score_pairs(*rep._core_args(), lo, hi, geographic=geo)
+    _, k, _, _ = _core.association_pair_stats(*rep._core_args(), lo, hi, geographic=geo)
     t_sample = time.perf_counter() - t
     all_pairs = n * (n - 1) / 2
     t_brute = t_sample * all_pairs / args.sample

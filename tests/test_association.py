@@ -171,7 +171,9 @@ def _scores(frame, a, b, **kw):
     ids = list(rep.track_ids)
     ia = np.array([ids.index(a)], dtype=np.uint32)
     ib = np.array([ids.index(b)], dtype=np.uint32)
-    s, k = _core.association_score_pairs(*rep._core_args(), ia, ib, geographic=False, **kw)
+    s, k, _, _ = _core.association_pair_stats(
+        *rep._core_args(), ia, ib, geographic=False, **{"inflation": 1.0, **kw}
+    )
     return float(s[0]), int(k[0])
 
 

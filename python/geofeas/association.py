@@ -527,6 +527,48 @@ def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, 
     return score, opts
 
 
+def _resolve_options(
+    score: str,
+    combine: str,
+    lower: float,
+    upper: float,
+    max_gap: float,
+    horizon: float,
+    process_noise: float,
+    same_source: bool,
+    correlation_time: float,
+    window: float,
+    inflation: float | str,
+    margin: float | None,
+    score_options: dict[str, Any],
+) -> tuple[str, dict[str, Any], float | None, dict[str, Any]]:
+    """The engine's score name and score options, the inflation (``None``: estimate it), and
+    the options as recorded on the result (shared by :func:`associate` and ``geofeas.dask``)."""
+    name, opts = _score_options(score, score_options)
+    if isinstance(inflation, str):
+        if inflation != "auto":
+            raise GeofeasError(f"inflation: expected 'auto' or a number, got {inflation!r}")
+        infl: float | None = None
+    else:
+        infl = float(inflation)
+    options = dict(
+        score=score,
+        combine=combine,
+        lower=float(lower),
+        upper=float(upper),
+        max_gap=float(max_gap),
+        horizon=float(horizon),
+        process_noise=float(process_noise),
+        same_source=bool(same_source),
+        correlation_time=float(correlation_time),
+        window=float(window),
+        inflation=inflation,
+        margin=margin,
+        **score_options,
+    )
+    return name, opts, infl, options
+
+
 def associate(
     reports: Any,
     /,
@@ -598,27 +640,20 @@ def associate(
     Association
     """
     rep = read_reports(reports)
-    name, opts = _score_options(score, score_options)
-    if isinstance(inflation, str):
-        if inflation != "auto":
-            raise GeofeasError(f"inflation: expected 'auto' or a number, got {inflation!r}")
-        infl: float | None = None
-    else:
-        infl = float(inflation)
-    options = dict(
-        score=score,
-        combine=combine,
-        lower=float(lower),
-        upper=float(upper),
-        max_gap=float(max_gap),
-        horizon=float(horizon),
-        process_noise=float(process_noise),
-        same_source=bool(same_source),
-        correlation_time=float(correlation_time),
-        window=float(window),
-        inflation=inflation,
-        margin=margin,
-        **score_options,
+    name, opts, infl, options = _resolve_options(
+        score,
+        combine,
+        lower,
+        upper,
+        max_gap,
+        horizon,
+        process_noise,
+        same_source,
+        correlation_time,
+        window,
+        inflation,
+        margin,
+        score_options,
     )
     raw = _core.associate(
         *rep._core_args(),

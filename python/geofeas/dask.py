@@ -53,7 +53,7 @@ from .association import (
     PLANAR,
     Association,
     Reports,
-    _score_options,
+    _resolve_options,
     read_reports,
 )
 
@@ -591,27 +591,20 @@ correlation_time, window, inflation, **score_options
             "margin: the ambiguity check is not supported by geofeas.dask (a match's rivals may "
             "lie in other tiles); use geofeas.associate, or margin=None"
         )
-    name, opts = _score_options(score, score_options)
-    if isinstance(inflation, str):
-        if inflation != "auto":
-            raise GeofeasError(f"inflation: expected 'auto' or a number, got {inflation!r}")
-        infl: float | None = None
-    else:
-        infl = float(inflation)
-    options = dict(
-        score=score,
-        combine=combine,
-        lower=float(lower),
-        upper=float(upper),
-        max_gap=float(max_gap),
-        horizon=float(horizon),
-        process_noise=float(process_noise),
-        same_source=bool(same_source),
-        correlation_time=float(correlation_time),
-        window=float(window),
-        inflation=inflation,
-        margin=margin,
-        **score_options,
+    name, opts, infl, options = _resolve_options(
+        score,
+        combine,
+        lower,
+        upper,
+        max_gap,
+        horizon,
+        process_noise,
+        same_source,
+        correlation_time,
+        window,
+        inflation,
+        margin,
+        score_options,
     )
     index = dict(
         max_gap=float(max_gap),

@@ -1,39 +1,19 @@
 //! Bindings of the association pipeline (`crate::association`).
 
-use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use super::{check_signals, detached};
+use super::{check_signals, detached, slice};
 use crate::association::{
     self, assign, candidates, Alignment, Combine, Coords, IndexOptions, Options, Reports,
 };
 use crate::error::Error;
 use crate::score::{self, Score};
 
-fn slice1<'a, T: numpy::Element>(
-    what: &'static str,
-    arr: &'a PyReadonlyArray1<'_, T>,
-) -> PyResult<&'a [T]> {
-    Ok(arr
-        .as_slice()
-        .map_err(|e| Error::Invalid(format!("{what}: {e}")))?)
-}
-
+/// The `(n, 5)` AOU rows, as `Reports::new` takes them.
 fn rows5(arr: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 5]>> {
-    let shape = arr.shape();
-    if shape[1] != 5 {
-        return Err(Error::Shape {
-            what: "aou",
-            expected: "(n, 5)".into(),
-            got: format!("{shape:?}"),
-        }
-        .into());
-    }
-    let flat = arr
-        .as_slice()
-        .map_err(|e| Error::Invalid(format!("aou: {e}")))?;
-    Ok(flat
+    Ok(super::flat5("aou", arr)?
         .chunks_exact(5)
         .map(|c| [c[0], c[1], c[2], c[3], c[4]])
         .collect())
@@ -55,9 +35,9 @@ pub(super) fn reports(
     Ok(Reports::new(
         coords,
         n_tracks,
-        slice1("track", track)?,
-        slice1("source", source)?,
-        slice1("time", time)?,
+        slice("track", track)?,
+        slice("source", source)?,
+        slice("time", time)?,
         &rows5(aou)?,
     )?)
 }
@@ -170,9 +150,9 @@ fn associate<'py>(
         margin,
     )?;
     let (t, s, tm) = (
-        slice1("track", &track)?,
-        slice1("source", &source)?,
-        slice1("time", &time)?,
+        slice("track", &track)?,
+        slice("source", &source)?,
+        slice("time", &time)?,
     );
     let rows = rows5(&aou)?;
     let coords = if geographic {
@@ -244,82 +224,6 @@ fn association_candidates<'py>(
     Ok((a.into_pyarray(py).into_any(), b.into_pyarray(py).into_any()))
 }
 
-/// Scores the given pairs (per-instant scores combined), with the number of instants.
-#[pyfunction]
-#[pyo3(signature = (track, source, time, aou, n_tracks, a, b, *, geographic, score="glr",
-    combine="chi2", max_gap=300.0, horizon=0.0, process_noise=2.0, correlation_time=60.0,
-    threshold=false, method="exact", vertices=256, samples=500, seed=0, sampler="importance",
-    inflation=1.0))]
-#[allow(clippy::too_many_arguments)]
-fn association_score_pairs<'py>(
-    py: Python<'py>,
-    track: PyReadonlyArray1<'py, u32>,
-    source: PyReadonlyArray1<'py, u32>,
-    time: PyReadonlyArray1<'py, f64>,
-    aou: PyReadonlyArray2<'py, f64>,
-    n_tracks: usize,
-    a: PyReadonlyArray1<'py, u32>,
-    b: PyReadonlyArray1<'py, u32>,
-    geographic: bool,
-    score: &str,
-    combine: &str,
-    max_gap: f64,
-    horizon: f64,
-    process_noise: f64,
-    correlation_time: f64,
-    threshold: bool,
-    method: &str,
-    vertices: usize,
-    samples: usize,
-    seed: u64,
-    sampler: &str,
-    inflation: f64,
-) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-    let r = reports(&track, &source, &time, &aou, n_tracks, geographic)?;
-    let o = options(
-        score,
-        combine,
-        0.5,
-        None,
-        max_gap,
-        horizon,
-        process_noise,
-        false,
-        correlation_time,
-        300.0,
-        threshold,
-        method,
-        vertices,
-        samples,
-        seed,
-        sampler,
-        Some(inflation),
-        None,
-    )?;
-    let (sa, sb) = (slice1("a", &a)?, slice1("b", &b)?);
-    if sa.len() != sb.len() {
-        return Err(Error::LengthMismatch {
-            left: sa.len(),
-            right: sb.len(),
-        }
-        .into());
-    }
-    for (row, (&x, &y)) in sa.iter().zip(sb).enumerate() {
-        if x as usize >= n_tracks || y as usize >= n_tracks {
-            return Err(Error::Invalid(format!(
-                "pair row {row}: track index out of range 0..{n_tracks}"
-            ))
-            .into());
-        }
-    }
-    let pairs: Vec<(u32, u32)> = sa.iter().copied().zip(sb.iter().copied()).collect();
-    let out = detached(py, || {
-        association::score_pairs(&r, &pairs, &o, &mut check_signals)
-    })?;
-    let (s, k): (Vec<f64>, Vec<u32>) = out.into_iter().map(|p| (p.score, p.instants)).unzip();
-    Ok((s.into_pyarray(py).into_any(), k.into_pyarray(py).into_any()))
-}
-
 /// Combines groups of per-instant scores: group `j` is `offsets[j]..offsets[j + 1]`.
 #[pyfunction]
 #[pyo3(signature = (g, m, time, offsets, rule, *, correlation_time=0.0))]
@@ -334,10 +238,10 @@ fn combine_instants<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let rule = Combine::from_name(rule)?;
     let (g, m, t, off) = (
-        slice1("g", &g)?,
-        slice1("m", &m)?,
-        slice1("time", &time)?,
-        slice1("offsets", &offsets)?,
+        slice("g", &g)?,
+        slice("m", &m)?,
+        slice("time", &time)?,
+        slice("offsets", &offsets)?,
     );
     if m.len() != g.len() || t.len() != g.len() {
         return Err(Error::Invalid("g, m and time must have the same length".into()).into());
@@ -373,7 +277,7 @@ fn assign_one_to_one<'py>(
     score: PyReadonlyArray1<'py, f64>,
     min_score: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let (sa, sb, ss) = (slice1("a", &a)?, slice1("b", &b)?, slice1("score", &score)?);
+    let (sa, sb, ss) = (slice("a", &a)?, slice("b", &b)?, slice("score", &score)?);
     if sa.len() != sb.len() || sa.len() != ss.len() {
         return Err(Error::Invalid("a, b and score must have the same length".into()).into());
     }
@@ -395,7 +299,6 @@ fn association_default_upper() -> f64 {
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(associate, m)?)?;
     m.add_function(wrap_pyfunction!(association_candidates, m)?)?;
-    m.add_function(wrap_pyfunction!(association_score_pairs, m)?)?;
     m.add_function(wrap_pyfunction!(combine_instants, m)?)?;
     m.add_function(wrap_pyfunction!(assign_one_to_one, m)?)?;
     m.add_function(wrap_pyfunction!(association_default_upper, m)?)?;

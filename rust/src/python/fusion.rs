@@ -8,19 +8,10 @@ use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use super::{check_signals, detached};
+use super::{check_signals, detached, slice};
 use crate::association::assign::{self, TrackInfo};
 use crate::association::{self, combine, Combine, IndexOptions};
 use crate::error::Error;
-
-fn slice<'a, T: numpy::Element>(
-    what: &'static str,
-    arr: &'a PyReadonlyArray1<'_, T>,
-) -> PyResult<&'a [T]> {
-    Ok(arr
-        .as_slice()
-        .map_err(|e| Error::Invalid(format!("{what}: {e}")))?)
-}
 
 /// Classes (`0` match, `1` borderline, `2` non-match) of the pairs `(a, b)` with `score`, and
 /// the object of every track, from the tracks' sources and time spans: the same triage and

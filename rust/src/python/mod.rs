@@ -32,6 +32,37 @@ pub(crate) fn check_signals() -> bool {
     Python::attach(|py| py.check_signals().is_err())
 }
 
+/// A 1-D array as a slice (it must be contiguous); errors name the array.
+pub(crate) fn slice<'a, T: numpy::Element>(
+    what: &'static str,
+    arr: &'a numpy::PyReadonlyArray1<'_, T>,
+) -> PyResult<&'a [T]> {
+    Ok(arr
+        .as_slice()
+        .map_err(|e| crate::Error::Invalid(format!("{what}: {e}")))?)
+}
+
+/// An `(n, 5)` float64 array (ellipses or AOU rows) as its contiguous flat buffer; errors name
+/// the array.
+pub(crate) fn flat5<'a>(
+    what: &'static str,
+    arr: &'a numpy::PyReadonlyArray2<'_, f64>,
+) -> PyResult<&'a [f64]> {
+    use numpy::PyUntypedArrayMethods;
+    let shape = arr.shape();
+    if shape[1] != 5 {
+        return Err(crate::Error::Shape {
+            what,
+            expected: "(n, 5)".into(),
+            got: format!("{shape:?}"),
+        }
+        .into());
+    }
+    Ok(arr
+        .as_slice()
+        .map_err(|e| crate::Error::Invalid(format!("{what}: {e}")))?)
+}
+
 /// Runs `f` with the GIL released, converting a core error into a Python exception.
 pub(crate) fn detached<T, F>(py: Python<'_>, f: F) -> PyResult<T>
 where

@@ -12,19 +12,7 @@ use crate::error::Error;
 use crate::score::{broadcast_len, check_cdist_size, Options, Score};
 
 fn ellipses<'a>(what: &'static str, arr: &'a PyReadonlyArray2<'_, f64>) -> PyResult<&'a [Ellipse]> {
-    let shape = arr.shape();
-    if shape[1] != 5 {
-        return Err(Error::Shape {
-            what,
-            expected: "(n, 5)".into(),
-            got: format!("{shape:?}"),
-        }
-        .into());
-    }
-    let flat = arr
-        .as_slice()
-        .map_err(|e| Error::Invalid(format!("{what}: {e}")))?;
-    Ok(Ellipse::from_flat(flat)?)
+    Ok(Ellipse::from_flat(super::flat5(what, arr)?)?)
 }
 
 fn options(
