@@ -242,8 +242,7 @@ impl LikelihoodModel {
     fn log_weights_chunk(&self, frame: &Frame, xs: &[f64], ys: &[f64], out: &mut [f64]) {
         #[cfg(target_arch = "x86_64")]
         {
-            if std::env::var_os("PF_SCALAR").is_none()
-                && std::arch::is_x86_feature_detected!("avx2")
+            if std::arch::is_x86_feature_detected!("avx2")
                 && std::arch::is_x86_feature_detected!("fma")
             {
                 // SAFETY: the CPU supports the features this function was compiled for.
@@ -557,6 +556,25 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    #[test]
+    fn scalar_path_equals_the_dispatched_one() {
+        // where the CPU has AVX2 + FMA, the dispatched path is the vector one: the portable
+        // scalar path (what other CPUs run) must give the same weights
+        let psf = Psf::default();
+        let f = Frame::render(80, 60, &[[40.0, 30.0]], &psf, 0.5, &mut stream(3, 0));
+        let mut rng = stream(3, 1);
+        let n = 517;
+        let p = Particles::uniform(n, [40.0, 30.0, 0.0, 0.0], 45.0, 0.0, &mut rng);
+        let model = LikelihoodModel::paper(&psf, 0.5);
+        let (mut scalar, mut dispatched) = (vec![0.0; n], vec![0.0; n]);
+        model.log_weights_scalar(&f, &p.x, &p.y, &mut scalar);
+        model.log_weights_chunk(&f, &p.x, &p.y, &mut dispatched);
+        for k in 0..n {
+            let (a, b) = (scalar[k], dispatched[k]);
+            assert!((a - b).abs() <= 1e-11 * (1.0 + a.abs()), "{k}: {a} {b}");
         }
     }
 
