@@ -94,6 +94,32 @@ fn filter_args(
     })
 }
 
+/// An `(n, 2)` array of finite points as its flat buffer; errors name the array, row and field.
+fn points2<'a>(what: &'static str, arr: &'a PyReadonlyArray2<'_, f64>) -> PyResult<&'a [f64]> {
+    let shape = arr.shape();
+    if shape[1] != 2 {
+        return Err(Error::Shape {
+            what,
+            expected: "(n, 2)".into(),
+            got: format!("{shape:?}"),
+        }
+        .into());
+    }
+    let flat = arr
+        .as_slice()
+        .map_err(|e| Error::Invalid(format!("{what}: {e}")))?;
+    if let Some(k) = flat.iter().position(|v| !v.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "{what} row {}: field '{}' is not finite ({})",
+            k / 2,
+            ["x", "y"][k % 2],
+            flat[k]
+        ))
+        .into());
+    }
+    Ok(flat)
+}
+
 fn method_of(n: u32) -> Result<Method> {
     Method::from_number(n)
 }
@@ -465,27 +491,7 @@ fn pf_log_weights<'py>(
         half_box,
     }
     .validated()?;
-    let shape = xy.shape();
-    if shape[1] != 2 {
-        return Err(Error::Shape {
-            what: "xy",
-            expected: "(n, 2)".into(),
-            got: format!("{shape:?}"),
-        }
-        .into());
-    }
-    let flat = xy
-        .as_slice()
-        .map_err(|e| Error::Invalid(format!("xy: {e}")))?;
-    if let Some(k) = flat.iter().position(|v| !v.is_finite()) {
-        return Err(Error::Invalid(format!(
-            "xy row {}: field '{}' is not finite ({})",
-            k / 2,
-            ["x", "y"][k % 2],
-            flat[k]
-        ))
-        .into());
-    }
+    let flat = points2("xy", &xy)?;
     let p = Particles {
         x: flat.iter().step_by(2).copied().collect(),
         y: flat.iter().skip(1).step_by(2).copied().collect(),
@@ -551,27 +557,7 @@ fn pf_render<'py>(
         }
         .into());
     }
-    let shape = positions.shape();
-    if shape[1] != 2 {
-        return Err(Error::Shape {
-            what: "positions",
-            expected: "(n, 2)".into(),
-            got: format!("{shape:?}"),
-        }
-        .into());
-    }
-    let flat = positions
-        .as_slice()
-        .map_err(|e| Error::Invalid(format!("positions: {e}")))?;
-    if let Some(k) = flat.iter().position(|v| !v.is_finite()) {
-        return Err(Error::Invalid(format!(
-            "positions row {}: field '{}' is not finite ({})",
-            k / 2,
-            ["x", "y"][k % 2],
-            flat[k]
-        ))
-        .into());
-    }
+    let flat = points2("positions", &positions)?;
     let pos: Vec<[f64; 2]> = flat.chunks_exact(2).map(|r| [r[0], r[1]]).collect();
     let f = detached(py, move || {
         Ok(Frame::render(
