@@ -1,21 +1,33 @@
 #!/usr/bin/env bash
 # The project's full test command (the README's second quick-start command; .ci/run calls it).
-# Lints and tests the Rust core, builds the wheel, installs it, then runs pytest against it.
+# Installs what the tests need into the active Python environment, lints and tests the Rust core,
+# builds the wheel, installs it, then runs pytest against it.
+#
+# One cargo profile (`ci`: optimised, no LTO) serves `cargo test` and the wheel, with the same
+# interpreter for pyo3, so a rerun recompiles nothing that did not change. Fat-LTO builds are
+# for `pip install .` and `cargo bench` only.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=${PYTHON:-python3}
+export PYO3_PYTHON="$("$PY" -c 'import sys; print(sys.executable)')"
+export CARGO_PROFILE=ci
+
+echo "== install the test tools"
+"$PY" -m pip install --quiet --disable-pip-version-check "maturin>=1.7,<2"
 
 echo "== cargo fmt --check"
 cargo fmt --all -- --check
 echo "== cargo clippy"
 cargo clippy --workspace --all-targets --all-features -- -D warnings
 echo "== cargo test"
-cargo test --workspace --release
+cargo test -p geofeas --all-features --profile "$CARGO_PROFILE"
 
-echo "== build and install the wheel"
+echo "== build and install the wheel with the test extras"
 rm -rf dist
-"$PY" -m maturin build --release --out dist
-"$PY" -m pip install --force-reinstall --no-deps dist/geofeas-*.whl
+"$PY" -m maturin build --profile "$CARGO_PROFILE" --out dist
+wheel=$(ls dist/geofeas-*.whl)
+"$PY" -m pip install --quiet --disable-pip-version-check "${wheel}[test]"
+"$PY" -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps "$wheel"
 
 echo "== typed stubs match the runtime"
 (cd /tmp && "$PY" -m mypy.stubtest geofeas._core --ignore-missing-stub)

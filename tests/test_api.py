@@ -174,6 +174,9 @@ def test_monte_carlo_bit_identical_across_thread_counts():
 
 def test_ctrl_c_interrupts_a_long_call():
     big = np.tile(A, (3000, 1))
+    # a runner may start the tests with SIGINT ignored; Python's own handler must be in place for
+    # the signal to become KeyboardInterrupt (otherwise this would run for minutes, not fail)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
     try:
@@ -181,6 +184,7 @@ def test_ctrl_c_interrupts_a_long_call():
             geofeas.cdist(big, big, score="monte_carlo", samples=5000, seed=1)
     finally:
         timer.cancel()
+        signal.signal(signal.SIGINT, previous)
 
 
 def test_gil_is_released_during_work():
