@@ -7,6 +7,7 @@ Scores"), computed in a Rust core.
 
 from ._core import GeofeasError, __version__
 from .association import Association, Reports, associate, combine_instants, read_reports
+from .decisions import read_decisions
 from .scores import (
     DEFAULT_VERTICES,
     SAMPLERS,
@@ -27,6 +28,7 @@ __all__ = [
     "Reports",
     "associate",
     "combine_instants",
+    "read_decisions",
     "read_reports",
     "DEFAULT_VERTICES",
     "GeofeasError",

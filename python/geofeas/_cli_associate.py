@@ -4,8 +4,14 @@ The input (CSV or Parquet, by extension) has the columns ``track_id, source, tim
 ISO-8601) and either ``x, y, rx, ry, phi`` (planar: metres, radians clockwise from north) or
 ``lat, lon, rx, ry, bearing`` (geographic: degrees WGS84, 2-sigma semi-axes in metres, bearing of
 the rx axis in degrees clockwise from true north); extra columns are ignored. The output (CSV or
-Parquet) has ``track_a, track_b, score, instants, class``, one row per candidate pair with
-``track_a < track_b``; ``--objects`` also writes ``track_id, object, source``.
+Parquet) has ``track_a, track_b, score, instants, class, p_same, review_rank``, one row per
+candidate pair with ``track_a < track_b``: ``p_same`` is the posterior probability that the two
+tracks are one object, ``class`` is ``match`` (p_same >= --p-match), ``non-match`` (p_same <=
+--p-reject) or ``borderline``, and ``review_rank`` orders the borderline pairs for the operator
+(1 first; empty for the others). ``--objects`` also writes ``track_id, object, source, p_alone``.
+``--decisions FILE`` (CSV or Parquet: ``track_a, track_b, decision`` with ``same`` /
+``different``, optionally ``operator, time``) adds operator decisions as hard constraints; the
+file is only read.
 """
 
 from __future__ import annotations
@@ -14,7 +20,10 @@ import argparse
 import time
 from typing import Any
 
-from .association import COMBINE_RULES, DEFAULT_UPPER, SCORES, associate, read_reports, write_table
+from .association import COMBINE_RULES, SCORES, associate, read_reports, write_table
+
+#: The columns of the pairs file.
+PAIR_COLUMNS = ("track_a", "track_b", "score", "instants", "class", "p_same", "review_rank")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -30,10 +39,11 @@ def run(args: argparse.Namespace) -> int:
         options["threshold"] = True
     result = associate(
         reports,
+        decisions=args.decisions,
         score=args.score,
         combine=args.combine,
-        lower=args.lower,
-        upper=args.upper,
+        p_match=args.p_match,
+        p_reject=args.p_reject,
         max_gap=args.max_gap,
         horizon=args.horizon,
         process_noise=args.process_noise,
@@ -41,10 +51,12 @@ def run(args: argparse.Namespace) -> int:
         correlation_time=args.correlation_time,
         window=args.window,
         inflation=args.inflation if args.inflation == "auto" else float(args.inflation),
-        margin=args.margin,
+        completeness=args.completeness,
+        false_tracks=args.false_tracks,
         **options,
     )
-    result.to_file(args.out)
+    pairs = result.pairs if args.details else result.pairs[list(PAIR_COLUMNS)]
+    write_table(pairs, args.out)
     if args.objects:
         write_table(result.objects, args.objects)
     elapsed = time.perf_counter() - start
@@ -90,12 +102,34 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--combine", choices=COMBINE_RULES, default="chi2", help="combination rule (default chi2)"
     )
-    p.add_argument("--lower", type=float, default=0.5, help="non-match below (default 0.5)")
     p.add_argument(
-        "--upper",
+        "--decisions", help="operator decisions to respect (.csv or .parquet; read only)"
+    )
+    p.add_argument(
+        "--p-match", type=float, default=0.99, help="match when p_same >= this (default 0.99)"
+    )
+    p.add_argument(
+        "--p-reject",
         type=float,
-        default=DEFAULT_UPPER,
-        help=f"match from (default {DEFAULT_UPPER:.4f})",
+        default=0.01,
+        help="non-match when p_same <= this (default 0.01)",
+    )
+    p.add_argument(
+        "--completeness",
+        type=float,
+        default=0.95,
+        help="share of the objects the most complete source holds (default 0.95)",
+    )
+    p.add_argument(
+        "--false-tracks",
+        type=float,
+        default=0.05,
+        help="share of each source's tracks that are false (default 0.05)",
+    )
+    p.add_argument(
+        "--details",
+        action="store_true",
+        help="also write the model's columns (llr, std_error, review_gain, settles_*, component)",
     )
     p.add_argument("--max-gap", type=float, default=300.0, help="longest interpolated gap (s)")
     p.add_argument("--horizon", type=float, default=0.0, help="extrapolation horizon (s)")
@@ -114,14 +148,7 @@ def add_parser(sub: Any) -> None:
         "--inflation",
         default="auto",
         type=_inflation,
-        help="covariance inflation of the chi-square rules: 'auto' (default) or a number",
-    )
-    p.add_argument(
-        "--margin",
-        type=float,
-        default=None,
-        help="log-likelihood margin a match needs over every exclusive alternative (default: "
-        "no such check)",
+        help="covariance inflation: 'auto' (default) or a number",
     )
     p.add_argument("--vertices", type=int, default=256, help="overlap polygon resolution")
     p.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per instant")

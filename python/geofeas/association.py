@@ -26,7 +26,6 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "Association",
     "COMBINE_RULES",
-    "DEFAULT_UPPER",
     "Reports",
     "associate",
     "combine_instants",
@@ -50,7 +49,8 @@ SCORES = (
     "bhattacharyya",
     "gaussian_product",
 )
-#: Default match threshold: the ``"chi2"`` score of a fit like one instant 2 sigma apart.
+#: The ``"chi2"`` score of a fit like one instant 2 sigma apart (a reference on the score
+#: column's scale; the classes come from the posterior).
 DEFAULT_UPPER: float = _core.association_default_upper()
 CLASSES = np.array(["match", "borderline", "non-match"], dtype=object)
 
@@ -383,21 +383,32 @@ class Association:
     Attributes
     ----------
     pairs : pandas.DataFrame
-        One row per candidate pair with at least one common instant: ``track_a``, ``track_b``
-        (the user's ids, ``track_a < track_b``: string order for string ids, numeric order for
-        numbers), ``score``, ``instants`` and ``class`` (``"match"``, ``"borderline"`` or
-        ``"non-match"``), sorted by ``(track_a, track_b)``.
+        One row per candidate pair with at least one common instant, sorted by
+        ``(track_a, track_b)``: ``track_a``, ``track_b`` (the user's ids, ``track_a <
+        track_b``), ``score`` (the combined per-instant score of seed 000, for continuity),
+        ``instants``, ``class`` (``"match"``, ``"borderline"`` or ``"non-match"``, from
+        ``p_same``), ``p_same`` (the posterior probability that the two tracks are one object),
+        ``review_rank`` (1 = review first; missing for pairs that are not borderline), and the
+        model's details: ``llr`` (the pair's log-likelihood ratio), ``std_error`` (of
+        ``p_same``; 0 where computed exactly), ``review_gain`` (expected probability mass a
+        decision settles), ``settles_same`` / ``settles_different`` (how many other pairs of
+        the component each answer takes out of the borderline band) and ``component``.
     objects : pandas.DataFrame
-        ``track_id``, ``object`` (one id per ship: the grouping of duplicate tracks across
-        sources) and ``source``, one row per track.
+        ``track_id``, ``object`` (one id per ship: the confident pairs joined), ``source`` and
+        ``p_alone`` (the posterior probability that the track has no partner), one row per
+        track.
+    components : pandas.DataFrame
+        Per connected component of the candidate graph: ``tracks``, ``method`` (``"exact"``
+        or ``"sampled"``), ``partitions`` (enumerated; 0 when sampled) and ``max_std_error``.
+    coverage : dict
+        ``{source: P_s}``: the share of the picture's objects each source is estimated to hold.
     reports : Reports
         The input.
     candidates : int
         Number of candidate pairs the space-time index returned (before dropping those without
         a common instant).
     inflation : dict
-        ``{(source_a, source_b): c}``: the covariance inflation the chi-square rules used for
-        each pair of sources (estimated with ``inflation="auto"``); empty for other rules.
+        ``{(source_a, source_b): c}``: the covariance inflation used for each pair of sources.
     options : dict
         The options used.
     """
@@ -406,12 +417,16 @@ class Association:
         pd = _pandas()
         self.reports = reports
         self.options = options
+        #: The operator decisions the association was computed under (``Decisions``), if any.
+        self.decisions: Any = None
         self.candidates = int(raw["candidates"])
         a = np.asarray(raw["a"], dtype=np.intp)
         b = np.asarray(raw["b"], dtype=np.intp)
         self._a, self._b = a, b
         self._score = np.asarray(raw["score"])
         ids = reports.track_ids
+        rank = np.asarray(raw["review_rank"], dtype=np.int64)
+        component = np.asarray(raw["component"], dtype=np.int64)
         self.pairs = pd.DataFrame(
             {
                 "track_a": ids[a],
@@ -419,14 +434,29 @@ class Association:
                 "score": self._score,
                 "instants": np.asarray(raw["instants"], dtype=np.int64),
                 "class": CLASSES[np.asarray(raw["class"], dtype=np.intp)],
+                "p_same": np.asarray(raw["p_same"], dtype=np.float64),
+                "review_rank": pd.array(np.where(rank > 0, rank, 0), dtype="Int64"),
+                "llr": np.asarray(raw["llr"], dtype=np.float64),
+                "std_error": np.asarray(raw["std_error"], dtype=np.float64),
+                "review_gain": np.asarray(raw["review_gain"], dtype=np.float64),
+                "settles_same": np.asarray(raw["settles_same"], dtype=np.int64),
+                "settles_different": np.asarray(raw["settles_different"], dtype=np.int64),
+                "component": pd.array(
+                    np.where(component < 2**32 - 1, component, 0), dtype="Int64"
+                ),
             }
         )
+        self.pairs.loc[rank == 0, "review_rank"] = pd.NA
+        self.pairs.loc[component >= 2**32 - 1, "component"] = pd.NA
         srcs = reports.sources
         self.inflation = {
             (srcs[int(a)], srcs[int(b)]): float(c)
             for a, b, c in zip(
                 raw["inflation_a"], raw["inflation_b"], raw["inflation"], strict=True
             )
+        }
+        self.coverage = {
+            srcs[k]: float(p) for k, p in enumerate(np.asarray(raw["coverage"])) if k < len(srcs)
         }
         obj = np.asarray(raw["object"], dtype=np.int64)
         per_track_source = np.empty(reports.n_tracks, dtype=np.intp)
@@ -436,6 +466,16 @@ class Association:
                 "track_id": ids,
                 "object": obj,
                 "source": reports.sources[per_track_source] if reports.n_tracks else [],
+                "p_alone": np.asarray(raw["p_alone"], dtype=np.float64),
+            }
+        )
+        methods = np.array(["exact", "sampled"], dtype=object)
+        self.components = pd.DataFrame(
+            {
+                "tracks": np.asarray(raw["component_tracks"], dtype=np.int64),
+                "method": methods[np.asarray(raw["component_method"], dtype=np.intp)],
+                "partitions": np.asarray(raw["component_partitions"], dtype=np.int64),
+                "max_std_error": np.asarray(raw["component_std_error"], dtype=np.float64),
             }
         )
 
@@ -450,17 +490,25 @@ class Association:
         """The pairs classed ``"match"``."""
         return self.pairs[self.pairs["class"] == "match"].reset_index(drop=True)
 
+    @property
+    def review_queue(self) -> pd.DataFrame:
+        """The ``"borderline"`` pairs in review order (the pair whose decision is expected to
+        settle the most probability mass first)."""
+        q = self.pairs[self.pairs["class"] == "borderline"]
+        return q.sort_values("review_rank").reset_index(drop=True)
+
     def assignment(
-        self, source_a: Any, source_b: Any, *, min_score: float | None = None
+        self, source_a: Any, source_b: Any, *, min_p: float | None = None
     ) -> pd.DataFrame:
-        """One-to-one assignment between the tracks of two sources maximising the total score
-        (Hungarian algorithm per connected component of the sparse candidate graph, in Rust).
+        """One-to-one assignment between the tracks of two sources maximising the total
+        posterior probability (Hungarian algorithm per connected component of the sparse
+        candidate graph, in Rust).
 
         Parameters
         ----------
         source_a, source_b : source names
-        min_score : float, optional
-            Pairs scoring below are not used (default: the ``lower`` threshold).
+        min_p : float, optional
+            Pairs with ``p_same`` below are not used (default: the ``p_reject`` option).
 
         Returns
         -------
@@ -480,11 +528,11 @@ class Association:
         rows = np.flatnonzero(fwd | rev)
         left = np.where(fwd[rows], self._a[rows], self._b[rows]).astype(np.uint32)
         right = np.where(fwd[rows], self._b[rows], self._a[rows]).astype(np.uint32)
-        thr = self.options["lower"] if min_score is None else float(min_score)
+        thr = self.options["p_reject"] if min_p is None else float(min_p)
         chosen = _core.assign_one_to_one(
             np.ascontiguousarray(left),
             np.ascontiguousarray(right),
-            np.ascontiguousarray(self._score[rows], dtype=np.float64),
+            np.ascontiguousarray(self.pairs["p_same"].to_numpy()[rows], dtype=np.float64),
             min_score=thr,
         )
         return self.pairs.iloc[rows[np.asarray(chosen, dtype=np.intp)]].reset_index(drop=True)
@@ -527,56 +575,93 @@ def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, 
     return score, opts
 
 
+#: The defaults of :func:`associate`'s options (besides the score's own).
+ASSOCIATION_DEFAULTS: dict[str, Any] = dict(
+    score="glr",
+    combine="chi2",
+    p_match=0.99,
+    p_reject=0.01,
+    max_gap=300.0,
+    horizon=0.0,
+    process_noise=2.0,
+    same_source=False,
+    correlation_time=60.0,
+    window=300.0,
+    inflation="auto",
+    completeness=0.95,
+    false_tracks=0.05,
+    density_cell=2000.0,
+    exact_limit=20_000,
+    chains=4,
+    sweeps=400,
+    posterior_seed=0,
+)
+_SCORE_DEFAULTS: dict[str, Any] = dict(
+    threshold=False, method="exact", vertices=256, samples=500, seed=0, sampler="importance"
+)
+
+
 def _resolve_options(
-    score: str,
-    combine: str,
-    lower: float,
-    upper: float,
-    max_gap: float,
-    horizon: float,
-    process_noise: float,
-    same_source: bool,
-    correlation_time: float,
-    window: float,
-    inflation: float | str,
-    margin: float | None,
-    score_options: dict[str, Any],
-) -> tuple[str, dict[str, Any], float | None, dict[str, Any]]:
-    """The engine's score name and score options, the inflation (``None``: estimate it), and
-    the options as recorded on the result (shared by :func:`associate` and ``geofeas.dask``)."""
-    name, opts = _score_options(score, score_options)
+    sources: NDArray[Any], options: Mapping[str, Any], score_options: dict[str, Any]
+) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The engine's options (a dict for ``_core``) and the options as recorded on the result,
+    from :func:`associate`'s keyword arguments (shared with ``geofeas.dask``)."""
+    unknown = sorted(set(options) - set(ASSOCIATION_DEFAULTS))
+    if unknown:
+        raise TypeError(f"associate() got unexpected option(s) {', '.join(unknown)}")
+    o = {**ASSOCIATION_DEFAULTS, **options}
+    name, opts = _score_options(str(o["score"]), score_options)
+    inflation = o["inflation"]
     if isinstance(inflation, str):
         if inflation != "auto":
             raise GeofeasError(f"inflation: expected 'auto' or a number, got {inflation!r}")
         infl: float | None = None
     else:
         infl = float(inflation)
-    options = dict(
-        score=score,
-        combine=combine,
-        lower=float(lower),
-        upper=float(upper),
-        max_gap=float(max_gap),
-        horizon=float(horizon),
-        process_noise=float(process_noise),
-        same_source=bool(same_source),
-        correlation_time=float(correlation_time),
-        window=float(window),
-        inflation=inflation,
-        margin=margin,
-        **score_options,
+    ft = o["false_tracks"]
+    if isinstance(ft, Mapping):
+        unknown_src = [k for k in ft if k not in set(sources.tolist())]
+        if unknown_src:
+            raise GeofeasError(
+                f"false_tracks: unknown source(s) {unknown_src} (have {list(sources)})"
+            )
+        false_tracks = [float(ft.get(s, 0.05)) for s in sources]
+    else:
+        false_tracks = [float(ft)] * len(sources)
+    core = dict(
+        score=name,
+        combine=str(o["combine"]),
+        p_match=float(o["p_match"]),
+        p_reject=float(o["p_reject"]),
+        max_gap=float(o["max_gap"]),
+        horizon=float(o["horizon"]),
+        process_noise=float(o["process_noise"]),
+        same_source=bool(o["same_source"]),
+        correlation_time=float(o["correlation_time"]),
+        window=float(o["window"]),
+        inflation=infl,
+        completeness=float(o["completeness"]),
+        false_tracks=false_tracks,
+        density_cell=float(o["density_cell"]),
+        exact_limit=int(o["exact_limit"]),
+        chains=int(o["chains"]),
+        sweeps=int(o["sweeps"]),
+        posterior_seed=int(o["posterior_seed"]),
+        **{**_SCORE_DEFAULTS, **opts},
     )
-    return name, opts, infl, options
+    recorded = {**o, **score_options}
+    return core, recorded
 
 
 def associate(
     reports: Any,
     /,
     *,
+    decisions: Any = None,
     score: str = "glr",
     combine: str = "chi2",
-    lower: float = 0.5,
-    upper: float = DEFAULT_UPPER,
+    p_match: float = 0.99,
+    p_reject: float = 0.01,
     max_gap: float = 300.0,
     horizon: float = 0.0,
     process_noise: float = 2.0,
@@ -584,53 +669,68 @@ def associate(
     correlation_time: float = 60.0,
     window: float = 300.0,
     inflation: float | str = "auto",
-    margin: float | None = None,
+    completeness: float = 0.95,
+    false_tracks: float | Mapping[Any, float] = 0.05,
+    density_cell: float = 2000.0,
+    exact_limit: int = 20_000,
+    chains: int = 4,
+    sweeps: int = 400,
+    posterior_seed: int = 0,
     **score_options: Any,
 ) -> Association:
-    """Score every candidate track pair and group duplicate tracks into objects.
+    """Associate the tracks of a picture: the posterior probability that each candidate pair is
+    one object, the operator triage, the review order and the objects.
+
+    The model (``docs/association.md``): per connected component of the candidate graph, the
+    hypotheses are the feasible partitions of its tracks into objects (no object holds two
+    tracks of one source whose time spans overlap); a partition's likelihood comes from the
+    aligned per-instant Gaussian densities of its tracks (normalisers included), discounted for
+    correlated instants, the picture's object density and each source's coverage and false
+    tracks. Marginals are exact by enumeration for small components and sampled (Markov chain
+    Monte-Carlo, with a standard error) beyond.
 
     Parameters
     ----------
     reports : Reports or anything :func:`read_reports` accepts
-    score : {"glr", "glr_threshold", "overlap", "monte_carlo"}
-        Per-instant geofeasibility score (seed 000).
+    decisions : path, pandas.DataFrame or None
+        Operator decisions (``track_a, track_b, decision`` with ``same`` / ``different``,
+        optionally ``operator, time``; see :func:`geofeas.read_decisions`): hard constraints.
+        Contradictory decisions are refused with an error naming their rows.
+    score : {"glr", "glr_threshold", "overlap", "monte_carlo", "bhattacharyya", "gaussian_product"}
+        Per-instant geofeasibility score of the ``score`` column (seed 000).
     combine : {"chi2", "pvalue", "geometric", "harmonic", "arithmetic", "min"}
-        How the per-instant scores of a pair become one score. ``"chi2"`` (default) is the
-        calibrated chi-square test of the summed Mahalanobis distances on the operator scale:
-        0.5 means "fits like one instant 3 sigma apart", whatever the number of instants;
-        ``"pvalue"`` is the test's p-value (uniform for true pairs). The others are the plain
-        means of the paper.
-    lower, upper : float
-        Pairs scoring below ``lower`` are ``"non-match"``; at least ``upper``, ``"match"``
-        candidates (then kept only if the grouping allows); between, ``"borderline"``.
-        Defaults 0.5 (the paper's "best borderline") and :data:`DEFAULT_UPPER` (0.735).
+        How the per-instant scores become the ``score`` column (``"chi2"``: 0.5 means "fits
+        like one instant 3 sigma apart").
+    p_match, p_reject : float
+        ``"match"`` when ``p_same >= p_match`` (default 0.99: at most 1 % of automatic merges
+        wrong, if the model holds), ``"non-match"`` when ``p_same <= p_reject`` (default 0.01),
+        ``"borderline"`` between.
     max_gap : float
         Longest gap between two reports of a track that is interpolated (s).
     horizon : float
         How far a track is extrapolated beyond its first / last report (s).
     process_noise : float
-        Diffusion ``q`` (m^2/s) of the position around straight-line motion, added to the
-        covariance of interpolated and extrapolated states.
+        Diffusion ``q`` (m^2/s) of the position around straight-line motion.
     same_source : bool
         Whether pairs of tracks from the same source are compared (default: not).
     correlation_time : float
-        Error correlation time (s) for the effective number of instants of ``"chi2"`` /
-        ``"pvalue"``; 0 treats instants as independent.
+        Error correlation time (s): ``k`` instants count as ``k_eff`` independent ones.
     window : float
         Longest time span of one chunk of the space-time index (s); affects speed only.
     inflation : "auto" or float
-        Covariance inflation of the chi-square rules. ``"auto"`` (default) estimates one factor
-        per pair of sources from the pairs that are each other's best partner (median of their
-        mean distances against the chi-square median; at least 1, so AOUs are never tightened),
-        which keeps true pairs matched when a source's AOUs are optimistic; a number divides
-        every summed distance by it (1: the AOUs as given). See :attr:`Association.inflation`.
-    margin : float, optional
-        If given, a match must also be unambiguous: it must beat every mutually exclusive
-        alternative (the same track with another track of its partner's source overlapping the
-        partner in time, scoring at least ``lower``) by this log-likelihood margin on the
-        instants the two pairs share, ``0.5 sum (m_rival - m)`` discounted for correlated
-        instants; otherwise it is ``"borderline"``. E.g. 3 (a Bayes factor of 20, "strong
-        evidence"). Default: no such check (the grouping constraint alone).
+        Covariance inflation: ``"auto"`` estimates one factor per pair of sources from the
+        pairs that are each other's best partner (at least 1); a number multiplies every
+        covariance by it.
+    completeness : float
+        Share of the picture's objects the most complete source holds a track of (0.95).
+    false_tracks : float or dict
+        Share of each source's tracks that are false (0.05), or ``{source: share}``.
+    density_cell : float
+        Cell side (m) of the picture's object-density grid.
+    exact_limit : int
+        Components with at most this many feasible partitions are enumerated exactly.
+    chains, sweeps, posterior_seed : int
+        The sampler of larger components: independent chains, sweeps per chain, seed.
     **score_options
         ``threshold`` (glr), ``method`` and ``vertices`` (overlap), ``samples``, ``seed`` and
         ``sampler`` (monte_carlo).
@@ -639,40 +739,43 @@ def associate(
     -------
     Association
     """
+    from .decisions import Decisions, read_decisions
+
     rep = read_reports(reports)
-    name, opts, infl, options = _resolve_options(
-        score,
-        combine,
-        lower,
-        upper,
-        max_gap,
-        horizon,
-        process_noise,
-        same_source,
-        correlation_time,
-        window,
-        inflation,
-        margin,
+    core, recorded = _resolve_options(
+        rep.sources,
+        dict(
+            score=score,
+            combine=combine,
+            p_match=p_match,
+            p_reject=p_reject,
+            max_gap=max_gap,
+            horizon=horizon,
+            process_noise=process_noise,
+            same_source=same_source,
+            correlation_time=correlation_time,
+            window=window,
+            inflation=inflation,
+            completeness=completeness,
+            false_tracks=false_tracks,
+            density_cell=density_cell,
+            exact_limit=exact_limit,
+            chains=chains,
+            sweeps=sweeps,
+            posterior_seed=posterior_seed,
+        ),
         score_options,
     )
+    dec = Decisions.empty() if decisions is None else read_decisions(decisions, rep)
     raw = _core.associate(
         *rep._core_args(),
+        *dec._core_args(),
         geographic=rep.coords == "geographic",
-        score=name,
-        combine=combine,
-        lower=float(lower),
-        upper=float(upper),
-        max_gap=float(max_gap),
-        horizon=float(horizon),
-        process_noise=float(process_noise),
-        same_source=bool(same_source),
-        correlation_time=float(correlation_time),
-        window=float(window),
-        inflation=infl,
-        margin=None if margin is None else float(margin),
-        **opts,
+        options=core,
     )
-    return Association(rep, raw, options)
+    result = Association(rep, raw, recorded)
+    result.decisions = dec
+    return result
 
 
 def combine_instants(

@@ -24,7 +24,9 @@ pub mod align;
 pub mod assign;
 pub mod candidates;
 pub mod combine;
+pub mod evidence;
 pub mod geodesy;
+pub mod posterior;
 pub mod reports;
 
 use rayon::prelude::*;
@@ -38,32 +40,35 @@ pub use align::Alignment;
 pub use assign::Class;
 pub use candidates::IndexOptions;
 pub use combine::Combine;
+pub use evidence::{Model, Picture};
+pub use posterior::{Decision, Inference, Posterior};
 pub use reports::{Coords, Reports, State};
 
 /// Options of [`associate`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Options {
-    /// Per-instant score.
+    /// Per-instant score (the `score` column; the posterior uses the Gaussian densities).
     pub score: Score,
-    /// Combination rule.
+    /// Combination rule of the `score` column.
     pub combine: Combine,
-    /// Below: `non-match`.
-    pub lower: f64,
-    /// At or above: `match` candidate (then subject to the grouping constraint).
-    pub upper: f64,
+    /// `match` when `P(same object) >= p_match`.
+    pub p_match: f64,
+    /// `non-match` when `P(same object) <= p_reject`.
+    pub p_reject: f64,
     /// Time alignment.
     pub align: Alignment,
     /// Error correlation time of the effective number of instants (s).
     pub correlation_time: f64,
     /// Candidate index.
     pub index: IndexOptions,
-    /// Log-likelihood margin by which a match must beat every mutually exclusive alternative
-    /// ([`rival_margins`]); `None` (the default) does not check.
-    pub margin: Option<f64>,
-    /// Covariance inflation of the chi-square rules: `None` estimates one factor per pair of
-    /// sources from the data ([`combine::estimate_inflation`]); `Some(c)` divides every summed
-    /// distance by `c` (1: the AOUs as given).
+    /// Covariance inflation: `None` estimates one factor per pair of sources from the data
+    /// ([`combine::estimate_inflation`]); `Some(c)` multiplies every covariance by `c` (1: the
+    /// AOUs as given).
     pub inflation: Option<f64>,
+    /// Parameters of the pair evidence.
+    pub model: Model,
+    /// Settings of the inference.
+    pub inference: Inference,
 }
 
 impl Default for Options {
@@ -71,13 +76,14 @@ impl Default for Options {
         Self {
             score: Score::Glr(crate::score::Glr::default()),
             combine: Combine::Chi2,
-            lower: 0.5,
-            upper: combine::default_upper(),
+            p_match: 0.99,
+            p_reject: 0.01,
             align: Alignment::default(),
             correlation_time: Self::DEFAULT_CORRELATION_TIME,
             index: IndexOptions::default(),
             inflation: None,
-            margin: None,
+            model: Model::default(),
+            inference: Inference::default(),
         }
     }
 }
@@ -91,16 +97,16 @@ impl Options {
     pub fn validated(self) -> Result<Self> {
         self.align.validated()?;
         let bad = |name: &'static str, reason: String| Err(Error::InvalidOption { name, reason });
-        if !(0.0..=1.0).contains(&self.lower) {
-            return bad("lower", format!("must be in [0, 1], got {}", self.lower));
-        }
-        if !(self.lower..=1.0).contains(&self.upper) {
+        if !(self.p_reject > 0.0 && self.p_reject < 0.5) {
             return bad(
-                "upper",
-                format!(
-                    "must be in [lower, 1] = [{}, 1], got {}",
-                    self.lower, self.upper
-                ),
+                "p_reject",
+                format!("must be in (0, 0.5), got {}", self.p_reject),
+            );
+        }
+        if !(self.p_match > 0.5 && self.p_match < 1.0) {
+            return bad(
+                "p_match",
+                format!("must be in (0.5, 1), got {}", self.p_match),
             );
         }
         if self.correlation_time.is_nan() || self.correlation_time < 0.0 {
@@ -109,9 +115,8 @@ impl Options {
                 format!("must be >= 0, got {}", self.correlation_time),
             );
         }
-        if self.margin.is_some_and(f64::is_nan) {
-            return bad("margin", "must not be NaN".into());
-        }
+        let model = self.model.clone().validated()?;
+        let inference = self.inference.validated()?;
         if let Some(c) = self.inflation {
             if !(c.is_finite() && c > 0.0) {
                 return bad("inflation", format!("must be finite and > 0, got {c}"));
@@ -120,7 +125,11 @@ impl Options {
         if self.index.window.is_nan() || self.index.window < 0.0 {
             return bad("window", format!("must be >= 0, got {}", self.index.window));
         }
-        Ok(self)
+        Ok(Self {
+            model,
+            inference,
+            ..self
+        })
     }
 }
 
@@ -130,15 +139,36 @@ impl Options {
 pub struct Association {
     pub a: Vec<u32>,
     pub b: Vec<u32>,
+    /// The combined per-instant score (continuity with the seed's scores; not the class).
     pub score: Vec<f64>,
     pub instants: Vec<u32>,
+    /// The pair's log-likelihood ratio "one object" against "two" ([`evidence`]).
+    pub llr: Vec<f64>,
+    /// `P(same object)`.
+    pub p_same: Vec<f64>,
+    /// Standard error of `p_same` (0 where computed exactly).
+    pub std_error: Vec<f64>,
     pub class: Vec<Class>,
+    /// Review order of the `borderline` pairs (1 = first), 0 for the others.
+    pub review_rank: Vec<u32>,
+    /// Expected undecided probability mass a decision on the pair settles.
+    pub review_gain: Vec<f64>,
+    /// How many other pairs of its component an answer "same" / "different" takes out of the
+    /// borderline band.
+    pub settles: Vec<(u32, u32)>,
+    /// Component of the candidate graph of each pair (`u32::MAX`: left out, `p_same = 0`).
+    pub component: Vec<u32>,
+    /// Per track: `P(no partner)`.
+    pub p_alone: Vec<f64>,
     pub object: Vec<u32>,
     /// Number of candidate pairs from the index (including those without common instants).
     pub candidates: usize,
-    /// Covariance inflation used per pair of sources `(source_lo, source_hi, c)` (chi-square
-    /// rules only).
+    /// Covariance inflation used per pair of sources `(source_lo, source_hi, c)`.
     pub inflation: Vec<(u32, u32, f64)>,
+    /// Per component of the candidate graph: size, method and error of the inference.
+    pub components: Vec<posterior::ComponentInfo>,
+    /// Coverage `P_s` estimated per source.
+    pub coverage: Vec<f64>,
 }
 
 fn mix(a: u32, b: u32, k: usize) -> u64 {
@@ -173,6 +203,35 @@ pub struct PairInstants {
     pub time: Vec<f64>,
     pub g: Vec<f64>,
     pub m: Vec<f64>,
+    /// The Gaussian view of every instant: `d^T S^-1 d`, `ln det S`, `tr S / det S`, `1 / det S`
+    /// with `S = R_a + R_b` (before inflation).
+    pub gauss: Vec<[f64; 4]>,
+    /// Position of track `a` at the middle instant.
+    pub pos: [f64; 2],
+}
+
+/// `[d^T S^-1 d, ln det S, tr S / det S, 1 / det S]` of one instant, `S = R_a + R_b` in the
+/// pair's local frame (`NaN`-free: a singular `S` gives `+inf` distances).
+pub fn gaussian_instant(coords: Coords, a: &State, b: &State) -> [f64; 4] {
+    let (d, cb) = match coords {
+        Coords::Planar => ([b.pos[0] - a.pos[0], b.pos[1] - a.pos[1]], b.cov),
+        Coords::Geographic => {
+            let (d, rot) = geodesy::log_map(a.pos, b.pos);
+            (d, geodesy::rotate_cov(b.cov, rot))
+        }
+    };
+    let (sxx, sxy, syy) = (a.cov[0] + cb[0], a.cov[1] + cb[1], a.cov[2] + cb[2]);
+    let det = sxx * syy - sxy * sxy;
+    if det.is_nan() || det <= 0.0 {
+        return [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::INFINITY,
+        ];
+    }
+    let m = (syy * d[0] * d[0] - 2.0 * sxy * d[0] * d[1] + sxx * d[1] * d[1]) / det;
+    [m.max(0.0), det.ln(), (sxx + syy) / det, 1.0 / det]
 }
 
 /// Aligns and scores the instants of tracks `a`, `b`.
@@ -182,6 +241,8 @@ pub fn pair_instants(r: &Reports, a: usize, b: usize, o: &Options) -> PairInstan
         time: Vec::with_capacity(inst.len()),
         g: Vec::with_capacity(inst.len()),
         m: Vec::with_capacity(inst.len()),
+        gauss: Vec::with_capacity(inst.len()),
+        pos: inst.get(inst.len() / 2).map_or([0.0; 2], |i| i.a.pos),
     };
     let plain_glr = matches!(o.score, Score::Glr(g) if !g.threshold);
     for (k, i) in inst.iter().enumerate() {
@@ -203,6 +264,7 @@ pub fn pair_instants(r: &Reports, a: usize, b: usize, o: &Options) -> PairInstan
         out.time.push(i.time);
         out.g.push(g);
         out.m.push(m.max(0.0));
+        out.gauss.push(gaussian_instant(r.coords, &i.a, &i.b));
     }
     out
 }
@@ -218,6 +280,32 @@ pub struct PairStat {
     pub sum_m: f64,
     /// Effective number of instants (see [`combine::effective_instants`]).
     pub k_eff: f64,
+    /// Sum of the Gaussian squared distances `d^T S^-1 d` (the evidence's; equal to `sum_m`
+    /// for the plain GLR).
+    pub sum_mg: f64,
+    /// Sum of `ln det S`.
+    pub sum_ln_det: f64,
+    /// Mean of `tr S / det S`.
+    pub mean_trace_over_det: f64,
+    /// Mean of `1 / det S`.
+    pub mean_inv_det: f64,
+    /// Position of track `a` at the middle instant (density look-up).
+    pub pos: [f64; 2],
+}
+
+impl PairStat {
+    /// The summary of a pair without common instants.
+    pub const EMPTY: Self = Self {
+        score: f64::NAN,
+        instants: 0,
+        sum_m: 0.0,
+        k_eff: 0.0,
+        sum_mg: 0.0,
+        sum_ln_det: 0.0,
+        mean_trace_over_det: 0.0,
+        mean_inv_det: 0.0,
+        pos: [0.0; 2],
+    };
 }
 
 /// Aligns, scores and combines tracks `a`, `b`.
@@ -234,11 +322,17 @@ pub fn pair_stat(r: &Reports, a: usize, b: usize, o: &Options) -> PairStat {
     } else {
         o.combine.combine(&p.g, &p.m, &p.time, o.correlation_time)
     };
+    let kf = (k as f64).max(1.0);
     PairStat {
         score,
         instants: k as u32,
         sum_m,
         k_eff,
+        sum_mg: p.gauss.iter().map(|x| x[0]).sum(),
+        sum_ln_det: p.gauss.iter().map(|x| x[1]).sum(),
+        mean_trace_over_det: p.gauss.iter().map(|x| x[2]).sum::<f64>() / kf,
+        mean_inv_det: p.gauss.iter().map(|x| x[3]).sum::<f64>() / kf,
+        pos: p.pos,
     }
 }
 
@@ -262,13 +356,7 @@ pub fn score_pairs(
     o: &Options,
     interrupt: Interrupt<'_>,
 ) -> Result<Vec<PairStat>> {
-    let empty = PairStat {
-        score: f64::NAN,
-        instants: 0,
-        sum_m: 0.0,
-        k_eff: 0.0,
-    };
-    let mut out = vec![empty; pairs.len()];
+    let mut out = vec![PairStat::EMPTY; pairs.len()];
     let chunk = 1 << 14;
     for (c, block) in out.chunks_mut(chunk).enumerate() {
         if interrupt() {
@@ -283,143 +371,190 @@ pub fn score_pairs(
     Ok(out)
 }
 
-/// The whole pipeline: candidates, alignment, scores, combination, triage and grouping.
-pub fn associate(r: &Reports, o: &Options, interrupt: Interrupt<'_>) -> Result<Association> {
+/// The whole pipeline: candidates, alignment, scores, combination, the joint posterior,
+/// triage and grouping. `decisions` are operator decisions (hard constraints).
+pub fn associate(
+    r: &Reports,
+    o: &Options,
+    decisions: &[Decision],
+    interrupt: Interrupt<'_>,
+) -> Result<Association> {
     let o = o.clone().validated()?;
     let pairs = candidate_pairs(r, &o);
     let scored = score_pairs(r, &pairs, &o, interrupt)?;
-    let mut res = Association {
-        candidates: pairs.len(),
-        ..Association::default()
-    };
-    let mut kept = Vec::with_capacity(pairs.len());
-    let mut stats = Vec::with_capacity(pairs.len());
-    for (&(a, b), st) in pairs.iter().zip(&scored) {
-        if st.instants == 0 {
-            continue;
-        }
-        res.a.push(a);
-        res.b.push(b);
-        res.score.push(st.score);
-        res.instants.push(st.instants);
-        kept.push((a, b));
-        stats.push((st.sum_m, st.instants as f64, st.k_eff));
-    }
-    let mut scale = vec![1.0; kept.len()];
-    if o.combine.is_chi2() {
-        res.inflation = match o.inflation {
-            Some(c) => {
-                let mut groups: Vec<(u32, u32, f64)> = kept
-                    .iter()
-                    .map(|&(a, b)| {
-                        let (sa, sb) = (r.source[a as usize], r.source[b as usize]);
-                        (sa.min(sb), sa.max(sb), c)
-                    })
-                    .collect();
-                groups.sort_by_key(|x| (x.0, x.1));
-                groups.dedup_by(|x, y| (x.0, x.1) == (y.0, y.1));
-                scale.iter_mut().for_each(|s| *s = c);
-                groups
-            }
-            None => {
-                let inflation = combine::estimate_inflation(&kept, &r.source, &stats);
-                for (i, &(a, b)) in kept.iter().enumerate() {
-                    let (sa, sb) = (r.source[a as usize], r.source[b as usize]);
-                    let key = (sa.min(sb), sa.max(sb));
-                    let c = inflation
-                        .binary_search_by(|x| (x.0, x.1).cmp(&key))
-                        .map_or(1.0, |j| inflation[j].2);
-                    let (sum_m, k, k_eff) = stats[i];
-                    res.score[i] = o.combine.from_summary(sum_m / c, k, k_eff);
-                    scale[i] = c;
-                }
-                inflation
-            }
-        };
-    }
-    let tracks: Vec<assign::TrackInfo> = (0..r.n_tracks)
+    let kept: Vec<((u32, u32), PairStat)> = pairs
+        .iter()
+        .zip(&scored)
+        .filter(|(_, st)| st.instants > 0)
+        .map(|(&p, st)| (p, *st))
+        .collect();
+    let picture = Picture::estimate(r, &o.model, o.align.max_gap);
+    finish(
+        &track_summaries(r),
+        &picture,
+        &o,
+        pairs.len(),
+        &kept,
+        decisions,
+        interrupt,
+    )
+}
+
+/// What the posterior needs of every track of `r`: source, time span and typical AOU size.
+pub fn track_summaries(r: &Reports) -> Vec<posterior::Track> {
+    (0..r.n_tracks)
         .map(|t| {
             let (start, end) = r.span(t);
             let (area_min, area_max) = r.area_range(t);
-            assign::TrackInfo {
+            posterior::Track {
                 source: r.source[t],
                 start,
                 end,
                 spread: assign::TrackInfo::spread_of(area_min, area_max),
             }
         })
-        .collect();
-    let unclear: Vec<bool> = match o.margin {
-        Some(margin) => rival_margins(r, &tracks, &kept, &res.score, &scale, &o)
-            .iter()
-            .map(|&m| m < margin)
-            .collect(),
-        None => Vec::new(),
-    };
-    let (class, object) =
-        assign::group_unambiguous(&tracks, &kept, &res.score, &unclear, o.lower, o.upper);
-    res.class = class;
-    res.object = object;
-    Ok(res)
+        .collect()
 }
 
-/// The log-likelihood margin of every match candidate over its rivals ([`assign::rivals`]: the
-/// shared track `t` with another track of the partner's source overlapping the partner in
-/// time), on the instants the two pairs share; `+inf` without rivals. With `Options::margin`,
-/// a candidate whose margin is below it is ambiguous and becomes `borderline`. With per-instant squared
-/// distances `m_P`, `m_Q` (each divided by its pair's covariance inflation) at the `n` common
-/// times, the GLR of eq. 71 gives `LLR = 0.5 sum (m_Q - m_P)`, discounted to `k_eff / n` of it
-/// for correlated instants ([`combine::effective_instants`] of the common times). A rival
-/// without common instants is not counted. The margin is the smallest LLR over the rivals.
-pub fn rival_margins(
-    r: &Reports,
-    tracks: &[assign::TrackInfo],
-    pairs: &[(u32, u32)],
-    scores: &[f64],
-    scale: &[f64],
+/// The steps after scoring, shared by [`associate`] and the distributed path: covariance
+/// inflation, scores, pair evidence, the posterior per component, triage, review order and
+/// objects. `tracks` describes every track ([`track_summaries`]), `picture` the picture's
+/// density and coverage, `kept` the scored pairs with at least one common instant, sorted by
+/// `(a, b)`; `o` must be validated.
+pub fn finish(
+    tracks: &[posterior::Track],
+    picture: &Picture,
     o: &Options,
-) -> Vec<f64> {
-    let rivals = assign::rivals(tracks, pairs, scores, o.lower, o.upper);
-    let other = |k: usize, t: u32| {
-        let (a, b) = pairs[k];
-        if a == t {
-            b
-        } else {
-            a
-        }
+    candidates: usize,
+    kept: &[((u32, u32), PairStat)],
+    decisions: &[Decision],
+    interrupt: Interrupt<'_>,
+) -> Result<Association> {
+    let mut res = Association {
+        candidates,
+        ..Association::default()
     };
-    (0..pairs.len())
-        .into_par_iter()
-        .map(|p| {
-            rivals[p].iter().fold(f64::INFINITY, |acc, &(q, t)| {
-                let ip = pair_instants(r, t as usize, other(p, t) as usize, o);
-                let iq = pair_instants(r, t as usize, other(q, t) as usize, o);
-                let (mut i, mut j) = (0, 0);
-                let mut times = Vec::new();
-                let mut diff = 0.0;
-                while i < ip.time.len() && j < iq.time.len() {
-                    match ip.time[i].total_cmp(&iq.time[j]) {
-                        std::cmp::Ordering::Less => i += 1,
-                        std::cmp::Ordering::Greater => j += 1,
-                        std::cmp::Ordering::Equal => {
-                            diff += iq.m[j] / scale[q] - ip.m[i] / scale[p];
-                            times.push(ip.time[i]);
-                            i += 1;
-                            j += 1;
-                        }
-                    }
-                }
-                if times.is_empty() {
-                    return acc;
-                }
-                let k_eff = combine::effective_instants(&times, o.correlation_time);
-                let llr = 0.5 * diff * k_eff / times.len() as f64;
-                if llr.is_nan() {
-                    f64::NEG_INFINITY
-                } else {
-                    acc.min(llr)
-                }
-            })
+    let pairs: Vec<(u32, u32)> = kept.iter().map(|x| x.0).collect();
+    let stats: Vec<(f64, f64, f64)> = kept
+        .iter()
+        .map(|(_, st)| (st.sum_m, st.instants as f64, st.k_eff))
+        .collect();
+    let n = tracks.len();
+    if let Some(((a, b), _)) = kept
+        .iter()
+        .find(|((a, b), _)| *a as usize >= n || *b as usize >= n || a == b)
+    {
+        return Err(Error::Invalid(format!(
+            "pair ({a}, {b}): tracks must be two distinct indices in 0..{n}"
+        )));
+    }
+    let track_source: Vec<u32> = tracks.iter().map(|t| t.source).collect();
+    let key = |a: u32, b: u32| {
+        let (sa, sb) = (track_source[a as usize], track_source[b as usize]);
+        (sa.min(sb), sa.max(sb))
+    };
+    res.inflation = match o.inflation {
+        Some(c) => {
+            let mut groups: Vec<(u32, u32, f64)> = pairs
+                .iter()
+                .map(|&(a, b)| {
+                    let (lo, hi) = key(a, b);
+                    (lo, hi, c)
+                })
+                .collect();
+            groups.sort_by_key(|x| (x.0, x.1));
+            groups.dedup_by(|x, y| (x.0, x.1) == (y.0, y.1));
+            groups
+        }
+        None => combine::estimate_inflation(&pairs, &track_source, &stats),
+    };
+    let scale: Vec<f64> = pairs
+        .iter()
+        .map(|&(a, b)| {
+            let k = key(a, b);
+            res.inflation
+                .binary_search_by(|x| (x.0, x.1).cmp(&k))
+                .map_or(1.0, |j| res.inflation[j].2)
         })
-        .collect()
+        .collect();
+    for (i, (&(a, b), st)) in pairs.iter().zip(kept.iter().map(|x| &x.1)).enumerate() {
+        res.a.push(a);
+        res.b.push(b);
+        res.instants.push(st.instants);
+        res.score.push(if o.combine.is_chi2() {
+            o.combine
+                .from_summary(st.sum_m / scale[i], st.instants as f64, st.k_eff)
+        } else {
+            st.score
+        });
+    }
+    if interrupt() {
+        return Err(Error::Interrupted);
+    }
+    res.coverage = picture.coverage.clone();
+    res.llr = kept
+        .par_iter()
+        .zip(scale.par_iter())
+        .map(|((p, st), &c)| {
+            evidence::log_likelihood_ratio(
+                st,
+                c,
+                (track_source[p.0 as usize], track_source[p.1 as usize]),
+                picture,
+                &o.model,
+                o.align.process_noise,
+                o.correlation_time,
+            )
+        })
+        .collect();
+    let post = posterior::posterior(
+        tracks,
+        &pairs,
+        &res.llr,
+        decisions,
+        &o.inference,
+        (o.p_reject, o.p_match),
+    )?;
+    if interrupt() {
+        return Err(Error::Interrupted);
+    }
+    let (object, joined) = posterior::objects(tracks, &pairs, &post.p_same, decisions, o.p_match);
+    res.class = (0..pairs.len())
+        .map(|k| {
+            let p = post.p_same[k];
+            if p >= o.p_match && joined[k] {
+                Class::Match
+            } else if p <= o.p_reject {
+                Class::NonMatch
+            } else {
+                Class::Borderline
+            }
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..pairs.len())
+        .filter(|&k| res.class[k] == Class::Borderline)
+        .collect();
+    order.sort_by(|&i, &j| {
+        post.gain[j]
+            .total_cmp(&post.gain[i])
+            .then(
+                (post.p_same[i] - 0.5)
+                    .abs()
+                    .total_cmp(&(post.p_same[j] - 0.5).abs()),
+            )
+            .then(pairs[i].cmp(&pairs[j]))
+    });
+    res.review_rank = vec![0; pairs.len()];
+    for (rank, &k) in order.iter().enumerate() {
+        res.review_rank[k] = rank as u32 + 1;
+    }
+    res.p_same = post.p_same;
+    res.std_error = post.std_error;
+    res.review_gain = post.gain;
+    res.settles = post.settles;
+    res.component = post.component;
+    res.p_alone = post.p_alone;
+    res.components = post.components;
+    res.object = object;
+    Ok(res)
 }

@@ -6,7 +6,8 @@ use pyo3::types::PyDict;
 
 use super::{check_signals, detached, slice};
 use crate::association::{
-    self, assign, candidates, Alignment, Combine, Coords, IndexOptions, Options, Reports,
+    self, assign, candidates, Alignment, Combine, Coords, Decision, IndexOptions, Inference, Model,
+    Options, Reports,
 };
 use crate::error::Error;
 use crate::score::{self, Score};
@@ -42,12 +43,14 @@ pub(super) fn reports(
     )?)
 }
 
-#[allow(clippy::too_many_arguments)]
-pub(super) fn options(
-    score: &str,
-    combine: &str,
-    lower: f64,
-    upper: Option<f64>,
+/// The association options from the keyword arguments of the bindings.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+pub(super) struct AssociationArgs {
+    score: String,
+    combine: String,
+    p_match: f64,
+    p_reject: f64,
     max_gap: f64,
     horizon: f64,
     process_noise: f64,
@@ -55,52 +58,138 @@ pub(super) fn options(
     correlation_time: f64,
     window: f64,
     threshold: bool,
-    method: &str,
+    method: String,
     vertices: usize,
     samples: usize,
     seed: u64,
-    sampler: &str,
+    sampler: String,
     inflation: Option<f64>,
-    margin: Option<f64>,
-) -> PyResult<Options> {
-    let spec = Score::from_name(
-        score,
-        &score::Options {
-            threshold,
-            method: method.to_string(),
-            vertices,
-            samples,
-            seed,
-            sampler: sampler.to_string(),
-        },
-    )?;
-    Ok(Options {
-        score: spec,
-        combine: Combine::from_name(combine)?,
-        lower,
-        upper: upper.unwrap_or_else(association::combine::default_upper),
-        align: Alignment {
-            max_gap,
-            horizon,
-            process_noise,
-        },
-        correlation_time,
-        index: IndexOptions {
-            window,
-            same_source,
-        },
-        inflation,
-        margin,
-    }
-    .validated()?)
+    completeness: f64,
+    false_tracks: Vec<f64>,
+    density_cell: f64,
+    exact_limit: usize,
+    chains: usize,
+    sweeps: usize,
+    posterior_seed: u64,
 }
 
-/// The whole pipeline on dense track / source ids; returns a dict of arrays.
+impl AssociationArgs {
+    pub(super) fn options(&self) -> PyResult<Options> {
+        let spec = Score::from_name(
+            &self.score,
+            &score::Options {
+                threshold: self.threshold,
+                method: self.method.clone(),
+                vertices: self.vertices,
+                samples: self.samples,
+                seed: self.seed,
+                sampler: self.sampler.clone(),
+            },
+        )?;
+        Ok(Options {
+            score: spec,
+            combine: Combine::from_name(&self.combine)?,
+            p_match: self.p_match,
+            p_reject: self.p_reject,
+            align: Alignment {
+                max_gap: self.max_gap,
+                horizon: self.horizon,
+                process_noise: self.process_noise,
+            },
+            correlation_time: self.correlation_time,
+            index: IndexOptions {
+                window: self.window,
+                same_source: self.same_source,
+            },
+            inflation: self.inflation,
+            model: Model {
+                completeness: self.completeness,
+                false_tracks: self.false_tracks.clone(),
+                cell: self.density_cell,
+            },
+            inference: Inference {
+                exact_limit: self.exact_limit,
+                chains: self.chains,
+                sweeps: self.sweeps,
+                seed: self.posterior_seed,
+            },
+        }
+        .validated()?)
+    }
+}
+
+/// Operator decisions as the engine takes them (dense track indices, rows of the caller's table).
+pub(super) fn decisions(
+    a: &PyReadonlyArray1<'_, u32>,
+    b: &PyReadonlyArray1<'_, u32>,
+    same: &PyReadonlyArray1<'_, bool>,
+    row: &PyReadonlyArray1<'_, u64>,
+) -> PyResult<Vec<Decision>> {
+    let (a, b, same, row) = (
+        slice("decision_a", a)?,
+        slice("decision_b", b)?,
+        slice("decision_same", same)?,
+        slice("decision_row", row)?,
+    );
+    if b.len() != a.len() || same.len() != a.len() || row.len() != a.len() {
+        return Err(Error::Invalid("decisions: columns of different lengths".into()).into());
+    }
+    Ok((0..a.len())
+        .map(|k| Decision {
+            a: a[k],
+            b: b[k],
+            same: same[k],
+            row: row[k] as usize,
+        })
+        .collect())
+}
+
+/// The result as a dict of arrays.
+pub(super) fn result_dict<'py>(
+    py: Python<'py>,
+    res: association::Association,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("a", res.a.into_pyarray(py))?;
+    d.set_item("b", res.b.into_pyarray(py))?;
+    d.set_item("score", res.score.into_pyarray(py))?;
+    d.set_item("instants", res.instants.into_pyarray(py))?;
+    d.set_item("llr", res.llr.into_pyarray(py))?;
+    d.set_item("p_same", res.p_same.into_pyarray(py))?;
+    d.set_item("std_error", res.std_error.into_pyarray(py))?;
+    let class: Vec<u8> = res.class.iter().map(|&c| c as u8).collect();
+    d.set_item("class", class.into_pyarray(py))?;
+    d.set_item("review_rank", res.review_rank.into_pyarray(py))?;
+    d.set_item("review_gain", res.review_gain.into_pyarray(py))?;
+    let (s_same, s_diff): (Vec<u32>, Vec<u32>) = res.settles.iter().copied().unzip();
+    d.set_item("settles_same", s_same.into_pyarray(py))?;
+    d.set_item("settles_different", s_diff.into_pyarray(py))?;
+    d.set_item("component", res.component.into_pyarray(py))?;
+    d.set_item("p_alone", res.p_alone.into_pyarray(py))?;
+    d.set_item("object", res.object.into_pyarray(py))?;
+    d.set_item("candidates", res.candidates)?;
+    let (ia, (ib, ic)): (Vec<u32>, (Vec<u32>, Vec<f64>)) =
+        res.inflation.iter().map(|&(a, b, c)| (a, (b, c))).unzip();
+    d.set_item("inflation_a", ia.into_pyarray(py))?;
+    d.set_item("inflation_b", ib.into_pyarray(py))?;
+    d.set_item("inflation", ic.into_pyarray(py))?;
+    d.set_item("coverage", res.coverage.into_pyarray(py))?;
+    let comp_tracks: Vec<u32> = res.components.iter().map(|c| c.tracks).collect();
+    let comp_parts: Vec<u64> = res.components.iter().map(|c| c.partitions).collect();
+    let comp_method: Vec<u8> = res.components.iter().map(|c| c.method as u8).collect();
+    let comp_err: Vec<f64> = res.components.iter().map(|c| c.max_std_error).collect();
+    d.set_item("component_tracks", comp_tracks.into_pyarray(py))?;
+    d.set_item("component_partitions", comp_parts.into_pyarray(py))?;
+    d.set_item("component_method", comp_method.into_pyarray(py))?;
+    d.set_item("component_std_error", comp_err.into_pyarray(py))?;
+    Ok(d)
+}
+
+/// The whole pipeline on dense track / source ids with operator decisions; returns a dict of
+/// arrays. `options` holds the keyword arguments of `geofeas.associate` as resolved in Python.
 #[pyfunction]
-#[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic, score="glr", combine="chi2",
-    lower=0.5, upper=None, max_gap=300.0, horizon=0.0, process_noise=2.0, same_source=false,
-    correlation_time=60.0, window=300.0, threshold=false, method="exact", vertices=256,
-    samples=500, seed=0, sampler="importance", inflation=None, margin=None))]
+#[pyo3(signature = (track, source, time, aou, n_tracks, decision_a, decision_b, decision_same,
+    decision_row, *, geographic, options))]
 #[allow(clippy::too_many_arguments)]
 fn associate<'py>(
     py: Python<'py>,
@@ -109,46 +198,15 @@ fn associate<'py>(
     time: PyReadonlyArray1<'py, f64>,
     aou: PyReadonlyArray2<'py, f64>,
     n_tracks: usize,
+    decision_a: PyReadonlyArray1<'py, u32>,
+    decision_b: PyReadonlyArray1<'py, u32>,
+    decision_same: PyReadonlyArray1<'py, bool>,
+    decision_row: PyReadonlyArray1<'py, u64>,
     geographic: bool,
-    score: &str,
-    combine: &str,
-    lower: f64,
-    upper: Option<f64>,
-    max_gap: f64,
-    horizon: f64,
-    process_noise: f64,
-    same_source: bool,
-    correlation_time: f64,
-    window: f64,
-    threshold: bool,
-    method: &str,
-    vertices: usize,
-    samples: usize,
-    seed: u64,
-    sampler: &str,
-    inflation: Option<f64>,
-    margin: Option<f64>,
+    options: AssociationArgs,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let o = options(
-        score,
-        combine,
-        lower,
-        upper,
-        max_gap,
-        horizon,
-        process_noise,
-        same_source,
-        correlation_time,
-        window,
-        threshold,
-        method,
-        vertices,
-        samples,
-        seed,
-        sampler,
-        inflation,
-        margin,
-    )?;
+    let o = options.options()?;
+    let dec = decisions(&decision_a, &decision_b, &decision_same, &decision_row)?;
     let (t, s, tm) = (
         slice("track", &track)?,
         slice("source", &source)?,
@@ -162,23 +220,9 @@ fn associate<'py>(
     };
     let res = detached(py, || {
         let r = Reports::new(coords, n_tracks, t, s, tm, &rows)?;
-        association::associate(&r, &o, &mut check_signals)
+        association::associate(&r, &o, &dec, &mut check_signals)
     })?;
-    let d = PyDict::new(py);
-    d.set_item("a", res.a.into_pyarray(py))?;
-    d.set_item("b", res.b.into_pyarray(py))?;
-    d.set_item("score", res.score.into_pyarray(py))?;
-    d.set_item("instants", res.instants.into_pyarray(py))?;
-    let class: Vec<u8> = res.class.iter().map(|&c| c as u8).collect();
-    d.set_item("class", class.into_pyarray(py))?;
-    d.set_item("object", res.object.into_pyarray(py))?;
-    d.set_item("candidates", res.candidates)?;
-    let (ia, (ib, ic)): (Vec<u32>, (Vec<u32>, Vec<f64>)) =
-        res.inflation.iter().map(|&(a, b, c)| (a, (b, c))).unzip();
-    d.set_item("inflation_a", ia.into_pyarray(py))?;
-    d.set_item("inflation_b", ib.into_pyarray(py))?;
-    d.set_item("inflation", ic.into_pyarray(py))?;
-    Ok(d)
+    result_dict(py, res)
 }
 
 /// Candidate pairs `(a, b)` from the R-tree, or by testing every pair of chunks.

@@ -1,116 +1,37 @@
 //! Bindings for distributed association (`geofeas.dask`): the per-pair summaries a tile
-//! computes (`crate::association::score_pairs`), and the global steps run once on the gathered
-//! pairs — the covariance inflation of the chi-square rules estimated per pair of sources
-//! (`combine::estimate_inflation`) and the triage and grouping (`assign::group`) — exactly as
-//! the tail of `crate::association::associate` does them.
+//! computes (`crate::association::score_pairs`), the mergeable picture counts of a partition of
+//! whole tracks (`evidence::Counts`), and the global step run once on the gathered pairs and
+//! components (`crate::association::finish`, the very function `associate` ends with).
 
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use super::association::AssociationArgs;
 use super::{check_signals, detached, slice};
-use crate::association::assign::{self, TrackInfo};
-use crate::association::{self, combine, Combine, IndexOptions};
+use crate::association::evidence::Counts;
+use crate::association::{self, posterior, PairStat, Picture};
 use crate::error::Error;
 
-/// Classes (`0` match, `1` borderline, `2` non-match) of the pairs `(a, b)` with `score`, and
-/// the object of every track, from the tracks' sources and time spans: the same triage and
-/// grouping as the last step of `associate`.
-#[pyfunction]
-#[pyo3(signature = (source, start, end, a, b, score, *, lower, upper, spread=None))]
-#[allow(clippy::too_many_arguments)]
-fn association_group<'py>(
-    py: Python<'py>,
-    source: PyReadonlyArray1<'py, u32>,
-    start: PyReadonlyArray1<'py, f64>,
-    end: PyReadonlyArray1<'py, f64>,
-    a: PyReadonlyArray1<'py, u32>,
-    b: PyReadonlyArray1<'py, u32>,
-    score: PyReadonlyArray1<'py, f64>,
-    lower: f64,
-    upper: f64,
-    spread: Option<PyReadonlyArray1<'py, f64>>,
-) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-    let spread = spread.as_ref().map(|s| slice("spread", s)).transpose()?;
-    let (sa, sb, ss) = (slice("a", &a)?, slice("b", &b)?, slice("score", &score)?);
-    if sb.len() != sa.len() || ss.len() != sa.len() {
-        return Err(Error::Invalid("a, b and score must have the same length".into()).into());
-    }
-    let pairs: Vec<(u32, u32)> = sa.iter().copied().zip(sb.iter().copied()).collect();
-    let (class, object) = group_checked(
-        py,
-        slice("source", &source)?,
-        slice("start", &start)?,
-        slice("end", &end)?,
-        &pairs,
-        ss,
-        lower,
-        upper,
-        spread,
-    )?;
-    Ok((
-        class.into_pyarray(py).into_any(),
-        object.into_pyarray(py).into_any(),
-    ))
-}
+/// The fields of a [`PairStat`], in the order the bindings exchange them.
+const STAT_FIELDS: [&str; 9] = [
+    "score",
+    "instants",
+    "sum_m",
+    "k_eff",
+    "sum_mg",
+    "sum_ln_det",
+    "mean_trace_over_det",
+    "mean_inv_det",
+    "pos",
+];
 
-/// `assign::group` after checking lengths, indices and thresholds; classes as `u8`.
-#[allow(clippy::too_many_arguments)]
-fn group_checked(
-    py: Python<'_>,
-    src: &[u32],
-    t0: &[f64],
-    t1: &[f64],
-    pairs: &[(u32, u32)],
-    scores: &[f64],
-    lower: f64,
-    upper: f64,
-    spread: Option<&[f64]>,
-) -> PyResult<(Vec<u8>, Vec<u32>)> {
-    if t0.len() != src.len()
-        || t1.len() != src.len()
-        || spread.is_some_and(|s| s.len() != src.len())
-    {
-        return Err(Error::Invalid(
-            "source, start, end (and spread) must have the same length".into(),
-        )
-        .into());
-    }
-    let n = src.len();
-    for (row, &(x, y)) in pairs.iter().enumerate() {
-        if x as usize >= n || y as usize >= n || x == y {
-            return Err(Error::Invalid(format!(
-                "pair row {row}: tracks ({x}, {y}) must be two distinct indices in 0..{n}"
-            ))
-            .into());
-        }
-    }
-    if !(0.0..=1.0).contains(&lower) || !(lower..=1.0).contains(&upper) {
-        return Err(Error::Invalid(format!(
-            "lower, upper must satisfy 0 <= lower <= upper <= 1, got {lower}, {upper}"
-        ))
-        .into());
-    }
-    let tracks: Vec<TrackInfo> = (0..n)
-        .map(|t| TrackInfo {
-            source: src[t],
-            start: t0[t],
-            end: t1[t],
-            spread: spread.map_or(0.0, |s| s[t]),
-        })
-        .collect();
-    let (class, object) = py.detach(|| assign::group(&tracks, pairs, scores, lower, upper));
-    Ok((class.iter().map(|&c| c as u8).collect(), object))
-}
-
-/// Per pair `(a, b)`: the combined score (with `inflation`, 1 when `None`), the number of
-/// instants, the summed squared distances and the effective number of instants.
+/// Per pair `(a, b)` of a tile: the summary of its common instants (a dict of arrays named as
+/// the fields of `PairStat`; `pos` is `(n, 2)`).
 #[pyfunction]
-#[pyo3(signature = (track, source, time, aou, n_tracks, a, b, *, geographic, score="glr",
-    combine="chi2", max_gap=300.0, horizon=0.0, process_noise=2.0, correlation_time=60.0,
-    threshold=false, method="exact", vertices=256, samples=500, seed=0, sampler="importance",
-    inflation=None, stream_ids=None))]
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[pyo3(signature = (track, source, time, aou, n_tracks, a, b, *, geographic, options,
+    stream_ids=None))]
+#[allow(clippy::too_many_arguments)]
 fn association_pair_stats<'py>(
     py: Python<'py>,
     track: PyReadonlyArray1<'py, u32>,
@@ -121,52 +42,15 @@ fn association_pair_stats<'py>(
     a: PyReadonlyArray1<'py, u32>,
     b: PyReadonlyArray1<'py, u32>,
     geographic: bool,
-    score: &str,
-    combine: &str,
-    max_gap: f64,
-    horizon: f64,
-    process_noise: f64,
-    correlation_time: f64,
-    threshold: bool,
-    method: &str,
-    vertices: usize,
-    samples: usize,
-    seed: u64,
-    sampler: &str,
-    inflation: Option<f64>,
+    options: AssociationArgs,
     stream_ids: Option<PyReadonlyArray1<'py, u32>>,
-) -> PyResult<(
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-)> {
+) -> PyResult<Bound<'py, PyDict>> {
     let r = super::association::reports(&track, &source, &time, &aou, n_tracks, geographic)?;
     let r = match &stream_ids {
         Some(ids) => r.with_stream_ids(slice("stream_ids", ids)?)?,
         None => r,
     };
-    let index = IndexOptions::default();
-    let o = super::association::options(
-        score,
-        combine,
-        0.5,
-        None,
-        max_gap,
-        horizon,
-        process_noise,
-        index.same_source,
-        correlation_time,
-        index.window,
-        threshold,
-        method,
-        vertices,
-        samples,
-        seed,
-        sampler,
-        inflation,
-        None,
-    )?;
+    let o = options.options()?;
     let (sa, sb) = (slice("a", &a)?, slice("b", &b)?);
     if sa.len() != sb.len() {
         return Err(Error::LengthMismatch {
@@ -187,148 +71,206 @@ fn association_pair_stats<'py>(
     let out = detached(py, || {
         association::score_pairs(&r, &pairs, &o, &mut check_signals)
     })?;
-    let score: Vec<f64> = out.iter().map(|p| p.score).collect();
+    let d = PyDict::new(py);
+    let col = |f: fn(&PairStat) -> f64| out.iter().map(f).collect::<Vec<f64>>();
+    d.set_item("score", col(|p| p.score).into_pyarray(py))?;
     let instants: Vec<u32> = out.iter().map(|p| p.instants).collect();
-    let sum_m: Vec<f64> = out.iter().map(|p| p.sum_m).collect();
-    let k_eff: Vec<f64> = out.iter().map(|p| p.k_eff).collect();
-    Ok((
-        score.into_pyarray(py).into_any(),
-        instants.into_pyarray(py).into_any(),
-        sum_m.into_pyarray(py).into_any(),
-        k_eff.into_pyarray(py).into_any(),
-    ))
+    d.set_item("instants", instants.into_pyarray(py))?;
+    d.set_item("sum_m", col(|p| p.sum_m).into_pyarray(py))?;
+    d.set_item("k_eff", col(|p| p.k_eff).into_pyarray(py))?;
+    d.set_item("sum_mg", col(|p| p.sum_mg).into_pyarray(py))?;
+    d.set_item("sum_ln_det", col(|p| p.sum_ln_det).into_pyarray(py))?;
+    d.set_item(
+        "mean_trace_over_det",
+        col(|p| p.mean_trace_over_det).into_pyarray(py),
+    )?;
+    d.set_item("mean_inv_det", col(|p| p.mean_inv_det).into_pyarray(py))?;
+    d.set_item("pos_0", col(|p| p.pos[0]).into_pyarray(py))?;
+    d.set_item("pos_1", col(|p| p.pos[1]).into_pyarray(py))?;
+    Ok(d)
 }
 
-/// The global steps of `associate` on gathered pairs `(a, b)` (sorted, `a < b`, each with at
-/// least one instant): for the chi-square rules the inflation per pair of sources (given, or
-/// estimated when `inflation` is `None`, then every score recomputed from its summary), then
-/// the triage and grouping. Returns a dict: `score`, `class`, `object`, `inflation_a`,
-/// `inflation_b`, `inflation`.
+/// The picture counts of a partition holding whole tracks: per-source track-seconds, the
+/// occupied cells `(source, row, col, seconds)` and the time range.
 #[pyfunction]
-#[pyo3(signature = (source, start, end, a, b, score, instants, sum_m, k_eff, *, combine,
-    inflation, lower, upper, spread=None))]
+#[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic, options))]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+fn association_picture_counts<'py>(
+    py: Python<'py>,
+    track: PyReadonlyArray1<'py, u32>,
+    source: PyReadonlyArray1<'py, u32>,
+    time: PyReadonlyArray1<'py, f64>,
+    aou: PyReadonlyArray2<'py, f64>,
+    n_tracks: usize,
+    geographic: bool,
+    options: AssociationArgs,
+) -> PyResult<Bound<'py, PyDict>> {
+    let r = super::association::reports(&track, &source, &time, &aou, n_tracks, geographic)?;
+    let o = options.options()?;
+    let c = py.detach(|| Counts::of(&r, o.model.cell, o.align.max_gap));
+    counts_dict(py, &c)
+}
+
+fn counts_dict<'py>(py: Python<'py>, c: &Counts) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("secs", c.secs.clone().into_pyarray(py))?;
+    let s: Vec<u32> = c.grid.keys().map(|k| k.0).collect();
+    let row: Vec<i64> = c.grid.keys().map(|k| k.1).collect();
+    let col: Vec<i64> = c.grid.keys().map(|k| k.2).collect();
+    let v: Vec<f64> = c.grid.values().copied().collect();
+    d.set_item("cell_source", s.into_pyarray(py))?;
+    d.set_item("cell_row", row.into_pyarray(py))?;
+    d.set_item("cell_col", col.into_pyarray(py))?;
+    d.set_item("cell_secs", v.into_pyarray(py))?;
+    d.set_item("time", (c.time.0, c.time.1))?;
+    Ok(d)
+}
+
+/// The global step of `associate` on gathered pairs `(a, b)` (sorted, `a < b`, each with at
+/// least one instant) with their summaries `stats` (as `association_pair_stats` returns them),
+/// the tracks' `source`, `start`, `end`, `spread`, the merged picture `counts` (as
+/// `association_picture_counts` returns them, summed) and operator decisions. Returns the same
+/// dict as `associate`.
+#[pyfunction]
+#[pyo3(signature = (source, start, end, spread, a, b, stats, counts, decision_a, decision_b,
+    decision_same, decision_row, *, geographic, options, candidates))]
 #[allow(clippy::too_many_arguments)]
 fn association_finish<'py>(
     py: Python<'py>,
     source: PyReadonlyArray1<'py, u32>,
     start: PyReadonlyArray1<'py, f64>,
     end: PyReadonlyArray1<'py, f64>,
+    spread: PyReadonlyArray1<'py, f64>,
     a: PyReadonlyArray1<'py, u32>,
     b: PyReadonlyArray1<'py, u32>,
-    score: PyReadonlyArray1<'py, f64>,
-    instants: PyReadonlyArray1<'py, u32>,
-    sum_m: PyReadonlyArray1<'py, f64>,
-    k_eff: PyReadonlyArray1<'py, f64>,
-    combine: &str,
-    inflation: Option<f64>,
-    lower: f64,
-    upper: f64,
-    spread: Option<PyReadonlyArray1<'py, f64>>,
+    stats: Bound<'py, PyDict>,
+    counts: Bound<'py, PyDict>,
+    decision_a: PyReadonlyArray1<'py, u32>,
+    decision_b: PyReadonlyArray1<'py, u32>,
+    decision_same: PyReadonlyArray1<'py, bool>,
+    decision_row: PyReadonlyArray1<'py, u64>,
+    geographic: bool,
+    options: AssociationArgs,
+    candidates: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let spread = spread.as_ref().map(|s| slice("spread", s)).transpose()?;
-    let rule = Combine::from_name(combine)?;
-    let src = slice("source", &source)?;
-    let (sa, sb) = (slice("a", &a)?, slice("b", &b)?);
-    let (ss, sk, sm, se) = (
-        slice("score", &score)?,
-        slice("instants", &instants)?,
-        slice("sum_m", &sum_m)?,
-        slice("k_eff", &k_eff)?,
-    );
-    let n = sa.len();
-    if [sb.len(), ss.len(), sk.len(), sm.len(), se.len()]
-        .iter()
-        .any(|&l| l != n)
-    {
-        return Err(Error::Invalid(
-            "a, b, score, instants, sum_m and k_eff must have the same length".into(),
-        )
-        .into());
-    }
-    for (row, (&x, &y)) in sa.iter().zip(sb).enumerate() {
-        if x as usize >= src.len() || y as usize >= src.len() {
-            return Err(Error::Invalid(format!(
-                "pair row {row}: track index out of range 0..{}",
-                src.len()
-            ))
-            .into());
-        }
-    }
-    let kept: Vec<(u32, u32)> = sa.iter().copied().zip(sb.iter().copied()).collect();
-    let stats: Vec<(f64, f64, f64)> = (0..n).map(|i| (sm[i], sk[i] as f64, se[i])).collect();
-    let mut scores = ss.to_vec();
-    let mut groups: Vec<(u32, u32, f64)> = Vec::new();
-    if rule.is_chi2() {
-        groups = match inflation {
-            Some(c) => {
-                let mut g: Vec<(u32, u32, f64)> = kept
-                    .iter()
-                    .map(|&(x, y)| {
-                        let (p, q) = (src[x as usize], src[y as usize]);
-                        (p.min(q), p.max(q), c)
-                    })
-                    .collect();
-                g.sort_by_key(|x| (x.0, x.1));
-                g.dedup_by(|x, y| (x.0, x.1) == (y.0, y.1));
-                g
-            }
-            None => {
-                let est = combine::estimate_inflation(&kept, src, &stats);
-                for (i, &(x, y)) in kept.iter().enumerate() {
-                    let (p, q) = (src[x as usize], src[y as usize]);
-                    let key = (p.min(q), p.max(q));
-                    let c = est
-                        .binary_search_by(|e| (e.0, e.1).cmp(&key))
-                        .map_or(1.0, |j| est[j].2);
-                    let (m, k, ke) = stats[i];
-                    scores[i] = rule.from_summary(m / c, k, ke);
-                }
-                est
-            }
-        };
-    }
-    let d = association_group_dict(py, source, start, end, &kept, &scores, lower, upper, spread)?;
-    let (ga, (gb, gc)): (Vec<u32>, (Vec<u32>, Vec<f64>)) =
-        groups.iter().map(|&(x, y, c)| (x, (y, c))).unzip();
-    d.set_item("score", scores.into_pyarray(py))?;
-    d.set_item("inflation_a", ga.into_pyarray(py))?;
-    d.set_item("inflation_b", gb.into_pyarray(py))?;
-    d.set_item("inflation", gc.into_pyarray(py))?;
-    Ok(d)
-}
-
-#[allow(clippy::too_many_arguments)]
-fn association_group_dict<'py>(
-    py: Python<'py>,
-    source: PyReadonlyArray1<'py, u32>,
-    start: PyReadonlyArray1<'py, f64>,
-    end: PyReadonlyArray1<'py, f64>,
-    pairs: &[(u32, u32)],
-    scores: &[f64],
-    lower: f64,
-    upper: f64,
-    spread: Option<&[f64]>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let (class, object) = group_checked(
-        py,
+    let o = options.options()?;
+    let dec =
+        super::association::decisions(&decision_a, &decision_b, &decision_same, &decision_row)?;
+    let (src, t0, t1, sp) = (
         slice("source", &source)?,
         slice("start", &start)?,
         slice("end", &end)?,
-        pairs,
-        scores,
-        lower,
-        upper,
-        spread,
-    )?;
-    let d = PyDict::new(py);
-    d.set_item("class", class.into_pyarray(py))?;
-    d.set_item("object", object.into_pyarray(py))?;
-    Ok(d)
+        slice("spread", &spread)?,
+    );
+    if t0.len() != src.len() || t1.len() != src.len() || sp.len() != src.len() {
+        return Err(Error::Invalid(
+            "source, start, end and spread must have the same length".into(),
+        )
+        .into());
+    }
+    let tracks: Vec<posterior::Track> = (0..src.len())
+        .map(|t| posterior::Track {
+            source: src[t],
+            start: t0[t],
+            end: t1[t],
+            spread: sp[t],
+        })
+        .collect();
+    let (sa, sb) = (slice("a", &a)?, slice("b", &b)?);
+    let get = |name: &'static str| -> PyResult<Vec<f64>> {
+        let v = stats
+            .get_item(name)?
+            .ok_or_else(|| Error::Invalid(format!("stats: missing '{name}'")))?;
+        let arr: PyReadonlyArray1<'_, f64> = v.extract()?;
+        let s = slice(name, &arr)?.to_vec();
+        if s.len() != sa.len() {
+            return Err(Error::Invalid(format!(
+                "stats: '{name}' has {} rows for {} pairs",
+                s.len(),
+                sa.len()
+            ))
+            .into());
+        }
+        Ok(s)
+    };
+    let cols: Vec<Vec<f64>> = STAT_FIELDS
+        .iter()
+        .filter(|&&f| f != "instants" && f != "pos")
+        .map(|f| get(f))
+        .collect::<PyResult<_>>()?;
+    let (p0, p1) = (get("pos_0")?, get("pos_1")?);
+    let instants: PyReadonlyArray1<'_, u32> = stats
+        .get_item("instants")?
+        .ok_or_else(|| Error::Invalid("stats: missing 'instants'".into()))?
+        .extract()?;
+    let instants = slice("instants", &instants)?;
+    if sb.len() != sa.len() || instants.len() != sa.len() {
+        return Err(Error::Invalid("a, b and stats must have the same length".into()).into());
+    }
+    let kept: Vec<((u32, u32), PairStat)> = (0..sa.len())
+        .map(|i| {
+            (
+                (sa[i], sb[i]),
+                PairStat {
+                    score: cols[0][i],
+                    instants: instants[i],
+                    sum_m: cols[1][i],
+                    k_eff: cols[2][i],
+                    sum_mg: cols[3][i],
+                    sum_ln_det: cols[4][i],
+                    mean_trace_over_det: cols[5][i],
+                    mean_inv_det: cols[6][i],
+                    pos: [p0[i], p1[i]],
+                },
+            )
+        })
+        .collect();
+    let counts = counts_of(&counts, geographic, o.model.cell)?;
+    let res = detached(py, || {
+        let picture = Picture::from_counts(counts, &o.model);
+        association::finish(
+            &tracks,
+            &picture,
+            &o,
+            candidates,
+            &kept,
+            &dec,
+            &mut check_signals,
+        )
+    })?;
+    super::association::result_dict(py, res)
+}
+
+fn counts_of(d: &Bound<'_, PyDict>, geographic: bool, cell: f64) -> PyResult<Counts> {
+    let item = |name: &str| {
+        d.get_item(name)?
+            .ok_or_else(|| PyErr::from(Error::Invalid(format!("counts: missing '{name}'"))))
+    };
+    let secs: Vec<f64> = item("secs")?.extract()?;
+    let s: Vec<u32> = item("cell_source")?.extract()?;
+    let row: Vec<i64> = item("cell_row")?.extract()?;
+    let col: Vec<i64> = item("cell_col")?.extract()?;
+    let v: Vec<f64> = item("cell_secs")?.extract()?;
+    let time: (f64, f64) = item("time")?.extract()?;
+    if row.len() != s.len() || col.len() != s.len() || v.len() != s.len() {
+        return Err(Error::Invalid("counts: cell columns of different lengths".into()).into());
+    }
+    let mut grid = std::collections::BTreeMap::new();
+    for i in 0..s.len() {
+        *grid.entry((s[i], row[i], col[i])).or_insert(0.0) += v[i];
+    }
+    Ok(Counts {
+        cell,
+        geographic,
+        secs,
+        grid,
+        time,
+    })
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(association_group, m)?)?;
     m.add_function(wrap_pyfunction!(association_pair_stats, m)?)?;
+    m.add_function(wrap_pyfunction!(association_picture_counts, m)?)?;
     m.add_function(wrap_pyfunction!(association_finish, m)?)?;
     Ok(())
 }

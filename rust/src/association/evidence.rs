@@ -1,0 +1,320 @@
+//! The evidence of one track pair for the joint model ([`crate::association::posterior`]): the
+//! log-likelihood ratio `L` of "one object" against "two objects", and the picture-wide
+//! quantities it needs, estimated from the picture itself (`docs/association.md`, "The joint
+//! model", gives the derivation and every assumption).
+//!
+//! Per common instant `t` the two AOUs are Gaussians (seed 000, eqs. 56-59); under "one object"
+//! the difference of the centres is `N(0, S_t)` with `S_t = c (R_a + R_b)` (`c` the covariance
+//! inflation of the pair's sources), whose log-density, normaliser included, is
+//! `l_t = -m_t / 2 - ln(2 pi sqrt(det S_t))`. Under "two objects" the second track follows some
+//! other object: at the first instant it is anywhere the picture's objects are, with the local
+//! object density `mu` (objects per m^2); at every later *independent* instant it is where its
+//! own motion puts it, a density whose expected log is `h_t = -1 - ln(2 pi sqrt(det(S_t + Q)))`
+//! with `Q = 2 q tau I` the spread of straight-line motion over one correlation time (`q` the
+//! process noise, `tau` the correlation time). With `k` instants worth `k_eff` independent ones
+//! ([`crate::association::combine::effective_instants`]) and means over the instants,
+//!
+//! `L = (mean l - ln mu) + (k_eff - 1) (mean l - mean h) + ln kappa + ln(1 - f_a) + ln(1 - f_b)`
+//!
+//! where `kappa = 1 / prod_s (1 - P_s)` is the prior odds of one merge under independent
+//! per-source coverage `P_s` (an object of a Poisson picture seen by every source with its own
+//! probability), and `f_s` is the fraction of source `s`'s tracks that are false (a false track
+//! has no partner).
+//!
+//! **Estimates from the picture.** `mu` is the time-averaged number of tracks of the most
+//! complete source (the one with the most track-seconds) per area, on a grid of
+//! [`Model::cell`]-metre cells smoothed over the 3 x 3 neighbourhood, divided by that source's
+//! completeness ([`Model::completeness`]), and never below a twentieth of the picture-wide
+//! density. `P_s` is the completeness times the ratio of source `s`'s track-seconds to the most
+//! complete source's, clamped to `[0.001, 0.999]`.
+
+use super::reports::{Coords, Reports};
+use super::PairStat;
+use crate::error::{Error, Result};
+
+/// Parameters of the pair evidence (see the module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Model {
+    /// Fraction of the picture's objects the most complete source holds a track of.
+    pub completeness: f64,
+    /// Fraction of each source's tracks that are false (by source index); sources beyond the
+    /// vector take [`Model::DEFAULT_FALSE_TRACKS`].
+    pub false_tracks: Vec<f64>,
+    /// Side of the density grid's cells (m).
+    pub cell: f64,
+}
+
+impl Default for Model {
+    fn default() -> Self {
+        Self {
+            completeness: 0.95,
+            false_tracks: Vec::new(),
+            cell: 2_000.0,
+        }
+    }
+}
+
+impl Model {
+    /// The false-track fraction of a source without one given.
+    pub const DEFAULT_FALSE_TRACKS: f64 = 0.05;
+
+    /// Checks the parameters.
+    pub fn validated(self) -> Result<Self> {
+        let bad = |name: &'static str, reason: String| Err(Error::InvalidOption { name, reason });
+        if !(self.completeness > 0.0 && self.completeness < 1.0) {
+            return bad(
+                "completeness",
+                format!("must be in (0, 1), got {}", self.completeness),
+            );
+        }
+        if let Some((s, f)) = self
+            .false_tracks
+            .iter()
+            .enumerate()
+            .find(|(_, f)| !(**f >= 0.0 && **f < 1.0))
+        {
+            return bad(
+                "false_tracks",
+                format!("source {s}: must be in [0, 1), got {f}"),
+            );
+        }
+        if !(self.cell.is_finite() && self.cell > 0.0) {
+            return bad(
+                "density_cell",
+                format!("must be finite and > 0, got {}", self.cell),
+            );
+        }
+        Ok(self)
+    }
+
+    fn false_fraction(&self, source: u32) -> f64 {
+        self.false_tracks
+            .get(source as usize)
+            .copied()
+            .unwrap_or(Self::DEFAULT_FALSE_TRACKS)
+    }
+}
+
+/// Track-seconds per source and per grid cell: the mergeable summary of a picture (or of any
+/// part of it holding whole tracks) from which [`Picture`] is built. Cells are anchored at
+/// absolute indices (planar: `floor(x / cell)`; geographic: rows of `cell` metres of latitude,
+/// columns of `cell` metres of longitude at the row's centre), so the counts of several parts
+/// add up to those of the whole.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Counts {
+    /// Cell side (m).
+    pub cell: f64,
+    /// Whether positions are `(lat, lon)` degrees.
+    pub geographic: bool,
+    /// Track-seconds per source.
+    pub secs: Vec<f64>,
+    /// Track-seconds per `(source, row, column)`.
+    pub grid: std::collections::BTreeMap<(u32, i64, i64), f64>,
+    /// Earliest and latest report time.
+    pub time: (f64, f64),
+}
+
+const EARTH_RADIUS: f64 = 6_371_008.8;
+
+impl Counts {
+    fn metres_per_degree() -> f64 {
+        EARTH_RADIUS * std::f64::consts::PI / 180.0
+    }
+
+    /// The cell `(row, column)` of a position.
+    fn cell_of(&self, pos: [f64; 2]) -> (i64, i64) {
+        let clamp = |v: f64| v.clamp(-1e15, 1e15) as i64;
+        if self.geographic {
+            let m = Self::metres_per_degree();
+            let row = (pos[0] * m / self.cell).floor();
+            let centre = ((row + 0.5) * self.cell / m).clamp(-90.0, 90.0);
+            let col = (pos[1] * m * centre.to_radians().cos().max(1e-3) / self.cell).floor();
+            (clamp(row), clamp(col))
+        } else {
+            (
+                clamp((pos[1] / self.cell).floor()),
+                clamp((pos[0] / self.cell).floor()),
+            )
+        }
+    }
+
+    /// The counts of `r` (reports stand for the time to the next report of their track, at
+    /// most `max_gap` seconds; a track's last report for the gap before it, a lone report for
+    /// `min(max_gap, 60)`).
+    pub fn of(r: &Reports, cell: f64, max_gap: f64) -> Self {
+        let mut out = Self {
+            cell,
+            geographic: r.coords == Coords::Geographic,
+            secs: Vec::new(),
+            grid: Default::default(),
+            time: (f64::INFINITY, f64::NEG_INFINITY),
+        };
+        for t in 0..r.n_tracks {
+            let range = r.range(t);
+            let times = &r.time[range.clone()];
+            let s = r.source[t];
+            if out.secs.len() <= s as usize {
+                out.secs.resize(s as usize + 1, 0.0);
+            }
+            for (k, i) in range.enumerate() {
+                let next = times.get(k + 1).map(|&x| x - times[k]);
+                let prev = (k > 0).then(|| times[k] - times[k - 1]);
+                let dt = match (next, prev) {
+                    (Some(a), _) => a.min(max_gap),
+                    (None, Some(b)) => b.min(max_gap),
+                    (None, None) => max_gap.min(60.0),
+                };
+                out.secs[s as usize] += dt;
+                let (row, col) = out.cell_of(r.state[i].pos);
+                *out.grid.entry((s, row, col)).or_insert(0.0) += dt;
+                out.time = (out.time.0.min(times[k]), out.time.1.max(times[k]));
+            }
+        }
+        out
+    }
+
+    /// Adds the counts of another part of the picture.
+    pub fn merge(&mut self, other: &Counts) {
+        if self.secs.len() < other.secs.len() {
+            self.secs.resize(other.secs.len(), 0.0);
+        }
+        for (s, v) in other.secs.iter().enumerate() {
+            self.secs[s] += v;
+        }
+        for (k, v) in &other.grid {
+            *self.grid.entry(*k).or_insert(0.0) += v;
+        }
+        self.time = (self.time.0.min(other.time.0), self.time.1.max(other.time.1));
+    }
+}
+
+/// What the picture says about itself: the object density grid and per-source coverage.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Picture {
+    counts: Counts,
+    /// Objects per m^2 per occupied cell of the reference source (3 x 3 smoothed).
+    density: std::collections::BTreeMap<(i64, i64), f64>,
+    /// Picture-wide density floor (objects per m^2).
+    floor: f64,
+    /// Coverage `P_s` per source.
+    pub coverage: Vec<f64>,
+    /// `ln kappa = -sum_s ln(1 - P_s)`.
+    pub ln_kappa: f64,
+    /// The most complete source.
+    pub reference: u32,
+}
+
+impl Picture {
+    /// Estimates the density grid and the coverages from `r` (reports interpolated across gaps
+    /// up to `max_gap` seconds).
+    pub fn estimate(r: &Reports, model: &Model, max_gap: f64) -> Self {
+        Self::from_counts(Counts::of(r, model.cell, max_gap), model)
+    }
+
+    /// The picture of merged [`Counts`].
+    pub fn from_counts(counts: Counts, model: &Model) -> Self {
+        let secs = &counts.secs;
+        let reference = (0..secs.len())
+            .max_by(|&a, &b| secs[a].total_cmp(&secs[b]).then(b.cmp(&a)))
+            .unwrap_or(0) as u32;
+        let span = (counts.time.1 - counts.time.0).max(1.0);
+        let cell_area = counts.cell * counts.cell;
+        let total = secs.get(reference as usize).copied().unwrap_or(0.0);
+        let own: std::collections::BTreeMap<(i64, i64), f64> = counts
+            .grid
+            .iter()
+            .filter(|(k, _)| k.0 == reference)
+            .map(|(k, v)| ((k.1, k.2), *v))
+            .collect();
+        // picture-wide: the reference source's objects over the cells it occupies
+        let occupied = own.len().max(1) as f64;
+        let floor = (total / span / (occupied * cell_area) / model.completeness / 20.0)
+            .max(f64::MIN_POSITIVE);
+        let mut density = std::collections::BTreeMap::new();
+        for &(row, col) in own.keys() {
+            let mut sum = 0.0;
+            for dr in -1..=1 {
+                for dc in -1..=1 {
+                    sum += own.get(&(row + dr, col + dc)).copied().unwrap_or(0.0);
+                }
+            }
+            let mu = sum / span / (9.0 * cell_area) / model.completeness;
+            density.insert((row, col), mu.max(floor));
+        }
+        let coverage: Vec<f64> = secs
+            .iter()
+            .map(|&s| {
+                if total > 0.0 {
+                    (model.completeness * s / total).clamp(0.001, 0.999)
+                } else {
+                    0.5
+                }
+            })
+            .collect();
+        let ln_kappa = -coverage.iter().map(|p| (1.0 - p).ln()).sum::<f64>();
+        Self {
+            counts,
+            density,
+            floor,
+            coverage,
+            ln_kappa,
+            reference,
+        }
+    }
+
+    /// Object density (per m^2) at `pos`: the smoothed density of its cell, or of the nearest
+    /// occupied cell among its eight neighbours, or the floor.
+    pub fn density_at(&self, pos: [f64; 2]) -> f64 {
+        let (row, col) = self.counts.cell_of(pos);
+        if let Some(&d) = self.density.get(&(row, col)) {
+            return d;
+        }
+        let mut best = self.floor;
+        for dr in -1..=1 {
+            for dc in -1..=1 {
+                if let Some(&d) = self.density.get(&(row + dr, col + dc)) {
+                    best = best.max(d);
+                }
+            }
+        }
+        best
+    }
+}
+
+/// `L` of a scored pair (see the module docs): `stat` from [`super::pair_stat`], `c` the
+/// covariance inflation of its sources, `q` the process noise (m^2/s) and `tau` the correlation
+/// time (s).
+#[allow(clippy::too_many_arguments)]
+pub fn log_likelihood_ratio(
+    stat: &PairStat,
+    c: f64,
+    sources: (u32, u32),
+    picture: &Picture,
+    model: &Model,
+    q: f64,
+    tau: f64,
+) -> f64 {
+    let k = stat.instants as f64;
+    if k == 0.0 {
+        return f64::NEG_INFINITY;
+    }
+    let two_pi_ln = (2.0 * std::f64::consts::PI).ln();
+    // mean l: -m/(2c) - ln(2 pi) - ln c - ln det S / 2
+    let mean_l = -0.5 * stat.sum_mg / (c * k) - two_pi_ln - c.ln() - 0.5 * stat.sum_ln_det / k;
+    // mean h - mean l's normaliser part: ln det(cS + Q) - ln det(cS) = ln(1 + Q u / c + Q^2 v / c^2)
+    let qq = 2.0 * q * tau;
+    let widen = 0.5
+        * (1.0 + qq * stat.mean_trace_over_det / c + qq * qq * stat.mean_inv_det / (c * c)).ln();
+    // mean l - mean h = -m/(2c) + 1 + widen
+    let fit = -0.5 * stat.sum_mg / (c * k) + 1.0 + widen;
+    let mu = picture.density_at(stat.pos);
+    let prior = picture.ln_kappa
+        + (1.0 - model.false_fraction(sources.0)).ln()
+        + (1.0 - model.false_fraction(sources.1)).ln();
+    let l = (mean_l - mu.ln()) + (stat.k_eff - 1.0).max(0.0) * fit + prior;
+    if l.is_nan() {
+        f64::NEG_INFINITY
+    } else {
+        l
+    }
+}

@@ -1,0 +1,1248 @@
+//! Posterior probabilities of the joint association (`docs/association.md`, "The joint
+//! model").
+//!
+//! The hypotheses of a connected component of the candidate graph are the feasible partitions of
+//! its tracks into objects: no object holds two tracks of one source whose time spans overlap,
+//! nor two tracks an operator declared different, nor two tracks that exist at a common time
+//! without being a candidate pair (their AOUs never came close while both existed), and every
+//! object is connected by candidate pairs (or by operator decisions). The weight of a partition is the product of the weights of
+//! its objects; a single track weighs 1, and an object of several tracks weighs
+//! `exp(sum of L_e)` over a spanning tree of its tracks, where `L_e` is the log-likelihood ratio
+//! of a pair ([`crate::association::evidence`]). The tree joins every track to the most precise
+//! track of the object it has a candidate pair with (tracks taken from the most precise to the
+//! least): the product of the Gaussian densities of one instant factorises exactly that way when
+//! the reference is much more precise than the joined track, as it is for a radar, aircraft or
+//! HF DF track joined to an AIS track, and the evidence of each track is counted once.
+//!
+//! Inference, per component and in parallel over components:
+//! - **Exact enumeration** of the feasible partitions (restricted growth strings with
+//!   feasibility pruning) when there are at most [`Inference::exact_limit`] of them;
+//! - otherwise a **Markov chain Monte-Carlo sampler** over partitions: per block of tracks, a
+//!   Metropolis-Hastings move proposed in proportion to the weights of joining each object it has
+//!   a candidate pair with, leaving for an object of its own, or swapping places with the one
+//!   track of the target object it conflicts with (so that two ships' tracks can exchange
+//!   partners without passing through a state of low weight); the acceptance ratio is the ratio
+//!   of the two neighbourhoods' total weights, which makes the chain reversible with respect to
+//!   the posterior. [`Inference::chains`] independent chains from the grouping that takes the
+//!   strongest pairs first; the standard error of each marginal is the spread of the chain
+//!   means over `sqrt(chains)`, reported per component.
+//!
+//! Operator decisions are hard constraints: tracks declared the same form one block that moves
+//! as a unit (a contradiction with the feasibility rules or with a declared difference is an
+//! error naming the decisions involved), tracks declared different never share an object.
+
+use rand::{Rng, SeedableRng};
+
+/// A uniform double in `[0, 1)` from 53 random bits.
+fn unit(rng: &mut impl Rng) -> f64 {
+    (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+}
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+
+/// A pair log-likelihood ratio below this is treated as impossible (`p_same = 0`): the pair is
+/// left out of the candidate graph, which keeps components small. `exp(-20) ~ 2e-9`.
+pub const L_CUT: f64 = -20.0;
+
+/// What the model needs to know about a track.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Track {
+    pub source: u32,
+    pub start: f64,
+    pub end: f64,
+    /// Precision order: the typical AOU size `sqrt(det R)` (smaller is more precise).
+    pub spread: f64,
+}
+
+impl Track {
+    fn conflicts(&self, o: &Track) -> bool {
+        self.source == o.source && self.start < o.end && o.start < self.end
+    }
+}
+
+/// An operator decision: tracks `a` and `b` are the same object (`same`) or not; `row` is the
+/// decision's row in the caller's table (named in errors).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Decision {
+    pub a: u32,
+    pub b: u32,
+    pub same: bool,
+    pub row: usize,
+}
+
+/// Settings of the inference.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Inference {
+    /// Components with at most this many feasible partitions are enumerated exactly.
+    pub exact_limit: usize,
+    /// Independent chains of the sampler.
+    pub chains: usize,
+    /// Sweeps per chain (every block proposed once per sweep), after a burn-in of a quarter as
+    /// many.
+    pub sweeps: usize,
+    /// Seed of the sampler (per component, streams derived from the seed and the component's
+    /// smallest track).
+    pub seed: u64,
+}
+
+impl Default for Inference {
+    fn default() -> Self {
+        Self {
+            exact_limit: 20_000,
+            chains: 4,
+            sweeps: 400,
+            seed: 0,
+        }
+    }
+}
+
+impl Inference {
+    /// Checks the settings.
+    pub fn validated(self) -> Result<Self> {
+        let bad = |name: &'static str, reason: String| Err(Error::InvalidOption { name, reason });
+        if self.chains < 2 || self.chains > 64 {
+            return bad("chains", format!("must be in [2, 64], got {}", self.chains));
+        }
+        if self.sweeps < 10 || self.sweeps > 1_000_000 {
+            return bad(
+                "sweeps",
+                format!("must be in [10, 1000000], got {}", self.sweeps),
+            );
+        }
+        if self.exact_limit > 10_000_000 {
+            return bad(
+                "exact_limit",
+                format!("must be at most 10000000, got {}", self.exact_limit),
+            );
+        }
+        Ok(self)
+    }
+}
+
+/// How the marginals of a component were computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Method {
+    /// Every feasible partition enumerated.
+    Exact = 0,
+    /// The sampler.
+    Sampled = 1,
+}
+
+/// The posterior over every component.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Posterior {
+    /// `P(same object)` of every pair (in the order given).
+    pub p_same: Vec<f64>,
+    /// Standard error of `p_same` (0 where exact).
+    pub std_error: Vec<f64>,
+    /// `P(no partner)` of every track.
+    pub p_alone: Vec<f64>,
+    /// Component of every pair (`u32::MAX` for pairs left out, below [`L_CUT`]).
+    pub component: Vec<u32>,
+    /// Per component: number of tracks, number of partitions (exact) or 0, method, and the
+    /// largest standard error of its marginals.
+    pub components: Vec<ComponentInfo>,
+    /// For every pair: the expected probability mass of the other pairs of its component that
+    /// a decision on it settles (see [`review_gain`]); 0 for pairs whose conditionals were not
+    /// computed.
+    pub gain: Vec<f64>,
+    /// For every pair: how many other pairs a "same" answer would take out of the band
+    /// `(p_reject, p_match)`, and how many a "different" answer would.
+    pub settles: Vec<(u32, u32)>,
+}
+
+/// Summary of one component.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ComponentInfo {
+    pub tracks: u32,
+    pub partitions: u64,
+    pub method: Method,
+    pub max_std_error: f64,
+}
+
+/// Union-find.
+struct Dsu(Vec<u32>);
+
+impl Dsu {
+    fn new(n: usize) -> Self {
+        Self((0..n as u32).collect())
+    }
+    fn find(&mut self, x: u32) -> u32 {
+        let mut r = x;
+        while self.0[r as usize] != r {
+            r = self.0[r as usize];
+        }
+        let mut y = x;
+        while self.0[y as usize] != r {
+            let next = self.0[y as usize];
+            self.0[y as usize] = r;
+            y = next;
+        }
+        r
+    }
+    fn union(&mut self, a: u32, b: u32) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            let (lo, hi) = (ra.min(rb), ra.max(rb));
+            self.0[hi as usize] = lo;
+        }
+    }
+}
+
+/// One component, in local indices.
+struct Component {
+    /// Global track of each local track.
+    tracks: Vec<u32>,
+    info: Vec<Track>,
+    /// Sorted adjacency `(neighbour, L)` per local track (candidate pairs and decided pairs).
+    adj: Vec<Vec<(u32, f64)>>,
+    /// Local tracks of each block (tracks declared the same).
+    blocks: Vec<Vec<u32>>,
+    /// Block of each local track.
+    block_of: Vec<u32>,
+    /// Pairs declared different (local tracks, sorted).
+    different: Vec<(u32, u32)>,
+    /// The pairs of this component: (global pair index, local a, local b).
+    pairs: Vec<(usize, u32, u32)>,
+    /// Precision order of the local tracks.
+    rank: Vec<u32>,
+}
+
+impl Component {
+    fn edge(&self, x: u32, y: u32) -> Option<f64> {
+        let row = &self.adj[x as usize];
+        row.binary_search_by_key(&y, |e| e.0).ok().map(|k| row[k].1)
+    }
+
+    fn different(&self, x: u32, y: u32) -> bool {
+        let key = (x.min(y), x.max(y));
+        self.different.binary_search(&key).is_ok()
+    }
+
+    /// Whether the tracks `xs` and `ys` may share an object: no two of one source at
+    /// overlapping times, none declared different, and every two that exist at a common time
+    /// a candidate pair (or declared the same): tracks whose AOUs never came close while both
+    /// existed are two objects.
+    fn compatible(&self, xs: &[u32], ys: &[u32]) -> bool {
+        xs.iter().all(|&x| {
+            ys.iter().all(|&y| {
+                let (tx, ty) = (&self.info[x as usize], &self.info[y as usize]);
+                let concurrent = tx.start < ty.end && ty.start < tx.end;
+                !tx.conflicts(ty)
+                    && !self.different(x, y)
+                    && (!concurrent || self.edge(x, y).is_some())
+            })
+        })
+    }
+
+    /// Log-weight of an object holding the tracks `members` (assumed feasible); `-inf` if the
+    /// candidate pairs do not connect them.
+    fn cell_weight(&self, members: &[u32], scratch: &mut Vec<u32>) -> f64 {
+        if members.len() < 2 {
+            return 0.0;
+        }
+        scratch.clear();
+        scratch.extend_from_slice(members);
+        scratch.sort_by_key(|&x| self.rank[x as usize]);
+        // scratch[..attached] are in the tree; the rest wait for a neighbour in it
+        let mut attached = 1usize;
+        let mut total = 0.0;
+        while attached < scratch.len() {
+            let mut progress = false;
+            let mut k = attached;
+            while k < scratch.len() {
+                let x = scratch[k];
+                // the most precise attached member with a pair to x
+                let best = scratch[..attached].iter().find_map(|&y| self.edge(x, y));
+                if let Some(l) = best {
+                    total += l;
+                    scratch[attached..=k].rotate_right(1);
+                    attached += 1;
+                    progress = true;
+                }
+                k += 1;
+            }
+            if !progress {
+                return f64::NEG_INFINITY;
+            }
+        }
+        total
+    }
+}
+
+fn log_sum_exp(xs: impl Iterator<Item = f64> + Clone) -> f64 {
+    let m = xs.clone().fold(f64::NEG_INFINITY, f64::max);
+    if m == f64::NEG_INFINITY {
+        return m;
+    }
+    m + xs.map(|x| (x - m).exp()).sum::<f64>().ln()
+}
+
+/// Builds the components of the candidate graph of `pairs` with log-likelihood ratios `llr`
+/// (pairs below [`L_CUT`] left out) and `decisions`, checking the decisions.
+fn components(
+    tracks: &[Track],
+    pairs: &[(u32, u32)],
+    llr: &[f64],
+    decisions: &[Decision],
+) -> Result<Vec<Component>> {
+    let n = tracks.len();
+    for d in decisions {
+        if d.a as usize >= n || d.b as usize >= n || d.a == d.b {
+            return Err(Error::Invalid(format!(
+                "decisions row {}: not two distinct tracks of the picture",
+                d.row
+            )));
+        }
+    }
+    // blocks of tracks declared the same, with the first decision that joined them
+    let mut same = Dsu::new(n);
+    for d in decisions.iter().filter(|d| d.same) {
+        same.union(d.a, d.b);
+    }
+    let mut rows_of_block: std::collections::HashMap<u32, Vec<usize>> = Default::default();
+    for d in decisions.iter().filter(|d| d.same) {
+        let r = same.find(d.a);
+        rows_of_block.entry(r).or_default().push(d.row);
+    }
+    let fmt_rows = |rows: &[usize]| {
+        rows.iter()
+            .map(|r| r.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    for d in decisions.iter().filter(|d| !d.same) {
+        if same.find(d.a) == same.find(d.b) {
+            let rows = rows_of_block[&same.find(d.a)].clone();
+            return Err(Error::Invalid(format!(
+                "decisions row {}: declares two tracks different that decisions rows {} make \
+                 the same object",
+                d.row,
+                fmt_rows(&rows)
+            )));
+        }
+    }
+    let mut members: std::collections::HashMap<u32, Vec<u32>> = Default::default();
+    for t in 0..n as u32 {
+        members.entry(same.find(t)).or_default().push(t);
+    }
+    for (root, ms) in &members {
+        for (i, &x) in ms.iter().enumerate() {
+            for &y in &ms[i + 1..] {
+                if tracks[x as usize].conflicts(&tracks[y as usize]) {
+                    let rows = rows_of_block[root].clone();
+                    return Err(Error::Invalid(format!(
+                        "decisions rows {}: make one object of two tracks of one source at \
+                         overlapping times",
+                        fmt_rows(&rows)
+                    )));
+                }
+            }
+        }
+    }
+    // components: candidate pairs above the cut and decisions
+    let mut dsu = Dsu::new(n);
+    for (k, &(a, b)) in pairs.iter().enumerate() {
+        if llr[k] >= L_CUT {
+            dsu.union(a, b);
+        }
+    }
+    for d in decisions {
+        dsu.union(d.a, d.b);
+    }
+    let mut local = vec![u32::MAX; n];
+    let mut comp_of_root: std::collections::HashMap<u32, usize> = Default::default();
+    let mut comps: Vec<Component> = Vec::new();
+    for t in 0..n as u32 {
+        let r = dsu.find(t);
+        let c = *comp_of_root.entry(r).or_insert_with(|| {
+            comps.push(Component {
+                tracks: Vec::new(),
+                info: Vec::new(),
+                adj: Vec::new(),
+                blocks: Vec::new(),
+                block_of: Vec::new(),
+                different: Vec::new(),
+                pairs: Vec::new(),
+                rank: Vec::new(),
+            });
+            comps.len() - 1
+        });
+        local[t as usize] = comps[c].tracks.len() as u32;
+        comps[c].tracks.push(t);
+        comps[c].info.push(tracks[t as usize]);
+        comps[c].adj.push(Vec::new());
+    }
+    let comp_of = |t: u32, dsu: &mut Dsu| comp_of_root[&dsu.find(t)];
+    for (k, &(a, b)) in pairs.iter().enumerate() {
+        if llr[k] >= L_CUT {
+            let c = comp_of(a, &mut dsu);
+            let (la, lb) = (local[a as usize], local[b as usize]);
+            let comp = &mut comps[c];
+            comp.adj[la as usize].push((lb, llr[k]));
+            comp.adj[lb as usize].push((la, llr[k]));
+            comp.pairs.push((k, la, lb));
+        }
+    }
+    for d in decisions {
+        let c = comp_of(d.a, &mut dsu);
+        let (la, lb) = (local[d.a as usize], local[d.b as usize]);
+        let comp = &mut comps[c];
+        if d.same {
+            // a decided pair connects its object even without a candidate pair
+            if !comp.adj[la as usize].iter().any(|e| e.0 == lb) {
+                comp.adj[la as usize].push((lb, 0.0));
+                comp.adj[lb as usize].push((la, 0.0));
+            }
+        } else {
+            comp.different.push((la.min(lb), la.max(lb)));
+        }
+    }
+    for comp in &mut comps {
+        for row in &mut comp.adj {
+            row.sort_by(|x, y| x.0.cmp(&y.0).then(y.1.total_cmp(&x.1)));
+            row.dedup_by_key(|e| e.0);
+        }
+        comp.different.sort_unstable();
+        comp.different.dedup();
+        let m = comp.tracks.len();
+        let mut order: Vec<u32> = (0..m as u32).collect();
+        order.sort_by(|&x, &y| {
+            comp.info[x as usize]
+                .spread
+                .total_cmp(&comp.info[y as usize].spread)
+                .then(comp.tracks[x as usize].cmp(&comp.tracks[y as usize]))
+        });
+        comp.rank = vec![0; m];
+        for (r, &x) in order.iter().enumerate() {
+            comp.rank[x as usize] = r as u32;
+        }
+        let mut root_block: std::collections::HashMap<u32, u32> = Default::default();
+        comp.block_of = vec![0; m];
+        for x in 0..m as u32 {
+            let r = same.find(comp.tracks[x as usize]);
+            let b = *root_block.entry(r).or_insert_with(|| {
+                comp.blocks.push(Vec::new());
+                comp.blocks.len() as u32 - 1
+            });
+            comp.blocks[b as usize].push(x);
+            comp.block_of[x as usize] = b;
+        }
+    }
+    Ok(comps)
+}
+
+/// A labelled partition of a component's blocks with its log-weight.
+struct Sample {
+    labels: Vec<u32>,
+}
+
+/// Marginals of one component from weighted partitions (`labels` per block).
+struct Marginals {
+    p_pair: Vec<f64>,
+    se_pair: Vec<f64>,
+    p_alone: Vec<f64>,
+    partitions: u64,
+    method: Method,
+    /// The partitions with their normalised weights (exact) or equal weights (sampled).
+    samples: Vec<Sample>,
+    weights: Vec<f64>,
+}
+
+fn enumerate(comp: &Component, limit: usize) -> Option<(Vec<Vec<u32>>, Vec<f64>)> {
+    let nb = comp.blocks.len();
+    let mut out_labels = Vec::new();
+    let mut out_logw = Vec::new();
+    let mut labels = vec![0u32; nb];
+    let mut cells: Vec<Vec<u32>> = Vec::new();
+    let mut scratch = Vec::new();
+    // depth-first over restricted growth strings
+    #[allow(clippy::too_many_arguments)]
+    fn rec(
+        comp: &Component,
+        k: usize,
+        labels: &mut [u32],
+        cells: &mut Vec<Vec<u32>>,
+        out_labels: &mut Vec<Vec<u32>>,
+        out_logw: &mut Vec<f64>,
+        scratch: &mut Vec<u32>,
+        limit: usize,
+    ) -> bool {
+        if k == comp.blocks.len() {
+            let w: f64 = cells.iter().map(|c| comp.cell_weight(c, scratch)).sum();
+            if w > f64::NEG_INFINITY {
+                if out_labels.len() >= limit {
+                    return false;
+                }
+                out_labels.push(labels.to_vec());
+                out_logw.push(w);
+            }
+            return true;
+        }
+        let block = &comp.blocks[k];
+        for c in 0..cells.len() {
+            if comp.compatible(&cells[c], block) {
+                labels[k] = c as u32;
+                let before = cells[c].len();
+                cells[c].extend_from_slice(block);
+                let ok = rec(
+                    comp,
+                    k + 1,
+                    labels,
+                    cells,
+                    out_labels,
+                    out_logw,
+                    scratch,
+                    limit,
+                );
+                cells[c].truncate(before);
+                if !ok {
+                    return false;
+                }
+            }
+        }
+        labels[k] = cells.len() as u32;
+        cells.push(block.clone());
+        let ok = rec(
+            comp,
+            k + 1,
+            labels,
+            cells,
+            out_labels,
+            out_logw,
+            scratch,
+            limit,
+        );
+        cells.pop();
+        ok
+    }
+    // a quick bound: components of many blocks cannot be enumerated within the limit
+    if nb > 24 {
+        return None;
+    }
+    if rec(
+        comp,
+        0,
+        &mut labels,
+        &mut cells,
+        &mut out_labels,
+        &mut out_logw,
+        &mut scratch,
+        limit,
+    ) {
+        Some((out_labels, out_logw))
+    } else {
+        None
+    }
+}
+
+/// The sampler's state: cell label per block, members (local tracks) and blocks per cell, and
+/// the cached log-weight per cell.
+struct Chain<'a> {
+    comp: &'a Component,
+    label: Vec<u32>,
+    cell_blocks: Vec<Vec<u32>>,
+    cell_tracks: Vec<Vec<u32>>,
+    cell_w: Vec<f64>,
+    free: Vec<u32>,
+    scratch: Vec<u32>,
+    /// Inverse temperature: the chain samples the posterior raised to `beta`.
+    beta: f64,
+    /// Log-weight of the current partition.
+    logw: f64,
+}
+
+/// Inverse temperatures of the tempered copies of every chain (the first is the posterior).
+const TEMPERATURES: [f64; 4] = [1.0, 0.5, 0.25, 0.12];
+
+/// The most blocks a swap move displaces.
+const MAX_SWAP: usize = 3;
+
+/// A move of one block.
+#[derive(Clone, Copy, Debug)]
+enum Move {
+    Stay,
+    Alone,
+    Join(u32),
+    /// Join the cell, and the (up to [`MAX_SWAP`]) blocks there that conflict with the mover go
+    /// to the mover's old cell.
+    Swap(u32, [u32; MAX_SWAP], usize),
+}
+
+impl<'a> Chain<'a> {
+    fn new(comp: &'a Component, labels: &[u32]) -> Self {
+        let nb = comp.blocks.len();
+        let ncell = labels.iter().map(|&l| l as usize + 1).max().unwrap_or(0);
+        let mut cell_blocks = vec![Vec::new(); nb.max(ncell)];
+        for (b, &l) in labels.iter().enumerate() {
+            cell_blocks[l as usize].push(b as u32);
+        }
+        let mut ch = Self {
+            comp,
+            label: labels.to_vec(),
+            cell_tracks: vec![Vec::new(); cell_blocks.len()],
+            cell_w: vec![0.0; cell_blocks.len()],
+            cell_blocks,
+            free: Vec::new(),
+            scratch: Vec::new(),
+            beta: 1.0,
+            logw: 0.0,
+        };
+        for c in 0..ch.cell_blocks.len() {
+            ch.refresh(c as u32);
+            if ch.cell_blocks[c].is_empty() {
+                ch.free.push(c as u32);
+            }
+        }
+        ch
+    }
+
+    fn tracks_of(&self, blocks: &[u32]) -> Vec<u32> {
+        blocks
+            .iter()
+            .flat_map(|&b| self.comp.blocks[b as usize].iter().copied())
+            .collect()
+    }
+
+    fn refresh(&mut self, c: u32) {
+        let t = self.tracks_of(&self.cell_blocks[c as usize]);
+        let w = self.comp.cell_weight(&t, &mut self.scratch);
+        self.logw += w - self.cell_w[c as usize];
+        self.cell_w[c as usize] = w;
+        self.cell_tracks[c as usize] = t;
+    }
+
+    fn weight_of(&mut self, tracks: &[u32]) -> f64 {
+        let mut s = std::mem::take(&mut self.scratch);
+        let w = self.comp.cell_weight(tracks, &mut s);
+        self.scratch = s;
+        w
+    }
+
+    /// The moves of block `b` from the current state, with their log-weight changes.
+    fn moves(&mut self, b: u32) -> Vec<(Move, f64)> {
+        let comp = self.comp;
+        let old = self.label[b as usize];
+        let mine: Vec<u32> = comp.blocks[b as usize].clone();
+        let old_rest: Vec<u32> = self.cell_tracks[old as usize]
+            .iter()
+            .copied()
+            .filter(|x| comp.block_of[*x as usize] != b)
+            .collect();
+        let w_old = self.cell_w[old as usize];
+        let w_old_rest = if old_rest.is_empty() {
+            0.0
+        } else {
+            self.weight_of(&old_rest)
+        };
+        let mut out = vec![(Move::Stay, 0.0)];
+        if !old_rest.is_empty() && w_old_rest > f64::NEG_INFINITY {
+            out.push((Move::Alone, w_old_rest - w_old));
+        }
+        // target cells: those holding a neighbour of the block
+        let mut targets: Vec<u32> = mine
+            .iter()
+            .flat_map(|&x| comp.adj[x as usize].iter().map(|e| e.0))
+            .map(|y| self.label[comp.block_of[y as usize] as usize])
+            .filter(|&c| c != old)
+            .collect();
+        targets.sort_unstable();
+        targets.dedup();
+        for c in targets {
+            let cell = &self.cell_blocks[c as usize];
+            let conflicts: Vec<u32> = cell
+                .iter()
+                .copied()
+                .filter(|&k| !comp.compatible(&comp.blocks[k as usize], &mine))
+                .collect();
+            let w_c = self.cell_w[c as usize];
+            match conflicts.len() {
+                0 => {
+                    let mut joined = self.cell_tracks[c as usize].clone();
+                    joined.extend_from_slice(&mine);
+                    let w = self.weight_of(&joined);
+                    if w > f64::NEG_INFINITY && w_old_rest > f64::NEG_INFINITY {
+                        out.push((Move::Join(c), w + w_old_rest - w_c - w_old));
+                    }
+                }
+                n if n <= MAX_SWAP && !old_rest.is_empty() => {
+                    let kt: Vec<u32> = conflicts
+                        .iter()
+                        .flat_map(|&k| comp.blocks[k as usize].iter().copied())
+                        .collect();
+                    if !comp.compatible(&kt, &old_rest) {
+                        continue;
+                    }
+                    let mut joined: Vec<u32> = self.cell_tracks[c as usize]
+                        .iter()
+                        .copied()
+                        .filter(|x| !conflicts.contains(&comp.block_of[*x as usize]))
+                        .collect();
+                    joined.extend_from_slice(&mine);
+                    let mut back = old_rest.clone();
+                    back.extend_from_slice(&kt);
+                    let (w1, w2) = (self.weight_of(&joined), self.weight_of(&back));
+                    if w1 > f64::NEG_INFINITY && w2 > f64::NEG_INFINITY {
+                        let mut ks = [0u32; MAX_SWAP];
+                        ks[..n].copy_from_slice(&conflicts);
+                        out.push((Move::Swap(c, ks, n), w1 + w2 - w_c - w_old));
+                    }
+                }
+                _ => {}
+            }
+        }
+        out
+    }
+
+    fn set(&mut self, b: u32, to: u32) {
+        let from = self.label[b as usize];
+        self.cell_blocks[from as usize].retain(|&x| x != b);
+        self.cell_blocks[to as usize].push(b);
+        self.label[b as usize] = to;
+    }
+
+    fn apply(&mut self, b: u32, m: Move) {
+        let old = self.label[b as usize];
+        match m {
+            Move::Stay => return,
+            Move::Alone => {
+                let c = self.free.pop().expect("a free cell: one per block");
+                self.set(b, c);
+                self.refresh(c);
+            }
+            Move::Join(c) => {
+                self.set(b, c);
+                self.refresh(c);
+            }
+            Move::Swap(c, ks, n) => {
+                self.set(b, c);
+                for &k in &ks[..n] {
+                    self.set(k, old);
+                }
+                self.refresh(c);
+            }
+        }
+        self.refresh(old);
+        if self.cell_blocks[old as usize].is_empty() {
+            self.free.push(old);
+        }
+    }
+
+    fn step(&mut self, b: u32, rng: &mut Xoshiro256PlusPlus) {
+        let beta = self.beta;
+        let fwd = self.moves(b);
+        let lse_fwd = log_sum_exp(fwd.iter().map(|m| beta * m.1));
+        let u = unit(rng);
+        let mut acc = 0.0;
+        let mut pick = fwd.len() - 1;
+        for (i, m) in fwd.iter().enumerate() {
+            acc += (beta * m.1 - lse_fwd).exp();
+            if u < acc {
+                pick = i;
+                break;
+            }
+        }
+        let (mv, delta) = fwd[pick];
+        if matches!(mv, Move::Stay) {
+            return;
+        }
+        let old = self.label[b as usize];
+        let was_alone = self.cell_blocks[old as usize].len() == 1;
+        self.apply(b, mv);
+        let rev = self.moves(b);
+        let lse_rev = log_sum_exp(rev.iter().map(|m| beta * m.1));
+        let log_accept = lse_fwd - beta * delta - lse_rev;
+        if log_accept < 0.0 && unit(rng) >= log_accept.exp() {
+            // undo with the inverse move (cell ids are arbitrary labels)
+            let back = match mv {
+                Move::Swap(_, ks, n) => Move::Swap(old, ks, n),
+                _ if was_alone => Move::Alone,
+                _ => Move::Join(old),
+            };
+            self.apply(b, back);
+        }
+    }
+}
+
+/// The feasible grouping that takes the strongest pairs first: the sampler's start.
+fn greedy_start(comp: &Component) -> Vec<u32> {
+    let nb = comp.blocks.len();
+    let mut edges: Vec<(f64, u32, u32)> = comp
+        .pairs
+        .iter()
+        .map(|&(_, a, b)| (comp.edge(a, b).unwrap_or(f64::NEG_INFINITY), a, b))
+        .filter(|e| e.0 > 0.0)
+        .collect();
+    edges.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+    let mut label: Vec<u32> = (0..nb as u32).collect();
+    let mut cell: Vec<Vec<u32>> = (0..nb).map(|b| comp.blocks[b].clone()).collect();
+    for (_, a, b) in edges {
+        let (ca, cb) = (
+            label[comp.block_of[a as usize] as usize],
+            label[comp.block_of[b as usize] as usize],
+        );
+        if ca == cb || !comp.compatible(&cell[ca as usize], &cell[cb as usize]) {
+            continue;
+        }
+        let moved = std::mem::take(&mut cell[cb as usize]);
+        for l in label.iter_mut().filter(|l| **l == cb) {
+            *l = ca;
+        }
+        cell[ca as usize].extend(moved);
+    }
+    label
+}
+
+fn marginals_of(comp: &Component, samples: &[Vec<u32>], weights: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let mut p_pair = vec![0.0; comp.pairs.len()];
+    let mut p_alone = vec![0.0; comp.tracks.len()];
+    let mut cell_size = Vec::new();
+    for (s, &w) in samples.iter().zip(weights) {
+        for (i, &(_, a, b)) in comp.pairs.iter().enumerate() {
+            if s[comp.block_of[a as usize] as usize] == s[comp.block_of[b as usize] as usize] {
+                p_pair[i] += w;
+            }
+        }
+        cell_size.clear();
+        cell_size.resize(s.len(), 0usize);
+        for (blk, &l) in s.iter().enumerate() {
+            cell_size[l as usize] += comp.blocks[blk].len();
+        }
+        for x in 0..comp.tracks.len() {
+            if cell_size[s[comp.block_of[x] as usize] as usize] == 1 {
+                p_alone[x] += w;
+            }
+        }
+    }
+    (p_pair, p_alone)
+}
+
+fn infer(comp: &Component, inf: &Inference) -> Marginals {
+    if let Some((labels, logw)) = enumerate(comp, inf.exact_limit.max(1)) {
+        let z = log_sum_exp(logw.iter().copied());
+        let weights: Vec<f64> = logw.iter().map(|w| (w - z).exp()).collect();
+        let (p_pair, p_alone) = marginals_of(comp, &labels, &weights);
+        return Marginals {
+            se_pair: vec![0.0; p_pair.len()],
+            p_pair,
+            p_alone,
+            partitions: labels.len() as u64,
+            method: Method::Exact,
+            samples: labels.into_iter().map(|labels| Sample { labels }).collect(),
+            weights,
+        };
+    }
+    sample(comp, inf)
+}
+
+fn sample(comp: &Component, inf: &Inference) -> Marginals {
+    let start = greedy_start(comp);
+    let nb = comp.blocks.len();
+    let burn = inf.sweeps / 4;
+    let first = comp.tracks[0] as u64;
+    let per_chain: Vec<Vec<Vec<u32>>> = (0..inf.chains)
+        .into_par_iter()
+        .map(|c| {
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(crate::score::monte_carlo::mix64(
+                inf.seed
+                    ^ crate::score::monte_carlo::mix64(first.wrapping_mul(0x1_0000) ^ c as u64),
+            ));
+            // parallel tempering: the chain at beta = 1 is the sample; hotter copies cross
+            // the barriers that single-block moves cannot, and swap states with it
+            let mut ladder: Vec<Chain> = TEMPERATURES
+                .iter()
+                .map(|&beta| {
+                    let mut ch = Chain::new(comp, &start);
+                    ch.beta = beta;
+                    ch
+                })
+                .collect();
+            let mut kept = Vec::with_capacity(inf.sweeps);
+            for sweep in 0..burn + inf.sweeps {
+                for ch in ladder.iter_mut() {
+                    for b in 0..nb as u32 {
+                        ch.step(b, &mut rng);
+                    }
+                }
+                for i in 0..ladder.len() - 1 {
+                    let (bi, bj) = (ladder[i].beta, ladder[i + 1].beta);
+                    let log_r = (bi - bj) * (ladder[i + 1].logw - ladder[i].logw);
+                    if log_r >= 0.0 || unit(&mut rng) < log_r.exp() {
+                        ladder.swap(i, i + 1);
+                        ladder[i].beta = bi;
+                        ladder[i + 1].beta = bj;
+                    }
+                }
+                if sweep >= burn {
+                    kept.push(ladder[0].label.clone());
+                }
+            }
+            kept
+        })
+        .collect();
+    let mut chain_p: Vec<Vec<f64>> = Vec::new();
+    let mut chain_a: Vec<Vec<f64>> = Vec::new();
+    for kept in &per_chain {
+        let w = vec![1.0 / kept.len() as f64; kept.len()];
+        let (p, a) = marginals_of(comp, kept, &w);
+        chain_p.push(p);
+        chain_a.push(a);
+    }
+    let nc = inf.chains as f64;
+    let mean_sd = |rows: &[Vec<f64>], i: usize| {
+        let m = rows.iter().map(|r| r[i]).sum::<f64>() / nc;
+        let v = rows.iter().map(|r| (r[i] - m).powi(2)).sum::<f64>() / (nc - 1.0);
+        (m, (v / nc).sqrt())
+    };
+    let (p_pair, se_pair): (Vec<f64>, Vec<f64>) =
+        (0..comp.pairs.len()).map(|i| mean_sd(&chain_p, i)).unzip();
+    let p_alone: Vec<f64> = (0..comp.tracks.len())
+        .map(|i| mean_sd(&chain_a, i).0)
+        .collect();
+    let samples: Vec<Sample> = per_chain
+        .into_iter()
+        .flatten()
+        .map(|labels| Sample { labels })
+        .collect();
+    let w = 1.0 / samples.len() as f64;
+    Marginals {
+        p_pair,
+        se_pair,
+        p_alone,
+        partitions: 0,
+        method: Method::Sampled,
+        weights: vec![w; samples.len()],
+        samples,
+    }
+}
+
+/// The review value of every pair of a component: the expected reduction of the undecided mass
+/// `U = sum_q min(p_q, 1 - p_q)` over the other pairs `q` of the component that share a track
+/// with it or with a pair sharing a track with it, from deciding it (`p` "same", `1 - p`
+/// "different"); and how many of those pairs each answer takes out of `(p_reject, p_match)`.
+fn review_gain(
+    comp: &Component,
+    m: &Marginals,
+    p_reject: f64,
+    p_match: f64,
+) -> (Vec<f64>, Vec<(u32, u32)>) {
+    let np = comp.pairs.len();
+    let undecided = |p: f64| p > p_reject && p < p_match;
+    let mut gain = vec![0.0; np];
+    let mut settles = vec![(0u32, 0u32); np];
+    // pairs by local track
+    let mut by_track: Vec<Vec<usize>> = vec![Vec::new(); comp.tracks.len()];
+    for (i, &(_, a, b)) in comp.pairs.iter().enumerate() {
+        by_track[a as usize].push(i);
+        by_track[b as usize].push(i);
+    }
+    let same_in = |s: &[u32], i: usize| {
+        let (_, a, b) = comp.pairs[i];
+        s[comp.block_of[a as usize] as usize] == s[comp.block_of[b as usize] as usize]
+    };
+    let decided: Vec<usize> = (0..np).filter(|&i| undecided(m.p_pair[i])).collect();
+    let results: Vec<(usize, f64, (u32, u32))> = decided
+        .par_iter()
+        .map(|&i| {
+            let (_, a, b) = comp.pairs[i];
+            // neighbourhood: pairs sharing a track with i, and their neighbours' pairs
+            let mut near: Vec<usize> = Vec::new();
+            for t in [a, b] {
+                for &q in &by_track[t as usize] {
+                    let (_, qa, qb) = comp.pairs[q];
+                    for u in [qa, qb] {
+                        near.extend(by_track[u as usize].iter().copied());
+                    }
+                }
+            }
+            near.sort_unstable();
+            near.dedup();
+            near.retain(|&q| q != i && undecided(m.p_pair[q]));
+            let mut w_same = 0.0;
+            let mut joint = vec![0.0; near.len()];
+            let mut marg = vec![0.0; near.len()];
+            for (s, &w) in m.samples.iter().zip(&m.weights) {
+                let si = same_in(&s.labels, i);
+                if si {
+                    w_same += w;
+                }
+                for (j, &q) in near.iter().enumerate() {
+                    if same_in(&s.labels, q) {
+                        marg[j] += w;
+                        if si {
+                            joint[j] += w;
+                        }
+                    }
+                }
+            }
+            let total: f64 = m.weights.iter().sum();
+            let p = w_same / total;
+            let u = |x: f64| x.min(1.0 - x).max(0.0);
+            let mut before = u(m.p_pair[i]);
+            let mut after = 0.0;
+            let (mut s_same, mut s_diff) = (0u32, 0u32);
+            for j in 0..near.len() {
+                let pq = marg[j] / total;
+                let c_same = if w_same > 0.0 { joint[j] / w_same } else { pq };
+                let c_diff = if total - w_same > 0.0 {
+                    (marg[j] - joint[j]) / (total - w_same)
+                } else {
+                    pq
+                };
+                before += u(pq);
+                after += p * u(c_same) + (1.0 - p) * u(c_diff);
+                s_same += u32::from(!undecided(c_same));
+                s_diff += u32::from(!undecided(c_diff));
+            }
+            (i, (before - after).max(0.0), (s_same, s_diff))
+        })
+        .collect();
+    for (i, g, s) in results {
+        gain[i] = g;
+        settles[i] = s;
+    }
+    (gain, settles)
+}
+
+/// The posterior of every pair and track (see the module docs). `pairs[k]` has log-likelihood
+/// ratio `llr[k]`; `p_reject` and `p_match` bound the band in which review values are computed.
+pub fn posterior(
+    tracks: &[Track],
+    pairs: &[(u32, u32)],
+    llr: &[f64],
+    decisions: &[Decision],
+    inf: &Inference,
+    band: (f64, f64),
+) -> Result<Posterior> {
+    if llr.len() != pairs.len() {
+        return Err(Error::LengthMismatch {
+            left: pairs.len(),
+            right: llr.len(),
+        });
+    }
+    if let Some(k) = llr.iter().position(|x| x.is_nan()) {
+        return Err(Error::Invalid(format!(
+            "pair {k}: log-likelihood ratio is NaN"
+        )));
+    }
+    let inf = inf.validated()?;
+    let comps = components(tracks, pairs, llr, decisions)?;
+    type Review = (Vec<f64>, Vec<(u32, u32)>);
+    let results: Vec<(Marginals, Review)> = comps
+        .par_iter()
+        .map(|comp| {
+            let m = infer(comp, &inf);
+            let review = review_gain(comp, &m, band.0, band.1);
+            (m, review)
+        })
+        .collect();
+    let mut out = Posterior {
+        p_same: vec![0.0; pairs.len()],
+        std_error: vec![0.0; pairs.len()],
+        p_alone: vec![1.0; tracks.len()],
+        component: vec![u32::MAX; pairs.len()],
+        components: Vec::with_capacity(comps.len()),
+        gain: vec![0.0; pairs.len()],
+        settles: vec![(0, 0); pairs.len()],
+    };
+    for (c, (comp, (m, (g, s)))) in comps.iter().zip(results).enumerate() {
+        for (i, &(k, _, _)) in comp.pairs.iter().enumerate() {
+            out.p_same[k] = m.p_pair[i].clamp(0.0, 1.0);
+            out.std_error[k] = m.se_pair[i];
+            out.component[k] = c as u32;
+            out.gain[k] = g[i];
+            out.settles[k] = s[i];
+        }
+        for (x, &t) in comp.tracks.iter().enumerate() {
+            out.p_alone[t as usize] = m.p_alone[x].clamp(0.0, 1.0);
+        }
+        out.components.push(ComponentInfo {
+            tracks: comp.tracks.len() as u32,
+            partitions: m.partitions,
+            method: m.method,
+            max_std_error: m.se_pair.iter().copied().fold(0.0, f64::max),
+        });
+    }
+    Ok(out)
+}
+
+/// Objects from the confident pairs: tracks joined by pairs with `p_same >= p_match` (and by
+/// decisions "same"), a join that would put two conflicting tracks (or two tracks declared
+/// different) in one object being skipped. Returns the object of every track (dense ids,
+/// numbered by their smallest track) and, per pair, whether it was joined.
+pub fn objects(
+    tracks: &[Track],
+    pairs: &[(u32, u32)],
+    p_same: &[f64],
+    decisions: &[Decision],
+    p_match: f64,
+) -> (Vec<u32>, Vec<bool>) {
+    let n = tracks.len();
+    let mut root: Vec<u32> = (0..n as u32).collect();
+    let mut members: Vec<Vec<u32>> = (0..n as u32).map(|t| vec![t]).collect();
+    let mut different: Vec<(u32, u32)> = decisions
+        .iter()
+        .filter(|d| !d.same)
+        .map(|d| (d.a.min(d.b), d.a.max(d.b)))
+        .collect();
+    different.sort_unstable();
+    let mut order: Vec<usize> = (0..pairs.len()).filter(|&k| p_same[k] >= p_match).collect();
+    order.sort_by(|&i, &j| {
+        p_same[j]
+            .total_cmp(&p_same[i])
+            .then(pairs[i].cmp(&pairs[j]))
+    });
+    let forced: Vec<(u32, u32)> = decisions
+        .iter()
+        .filter(|d| d.same)
+        .map(|d| (d.a, d.b))
+        .collect();
+    let mut joined = vec![false; pairs.len()];
+    let join = |a: u32, b: u32, root: &mut Vec<u32>, members: &mut Vec<Vec<u32>>| {
+        let (ra, rb) = (root[a as usize], root[b as usize]);
+        if ra == rb {
+            return true;
+        }
+        let ok = members[ra as usize].iter().all(|&x| {
+            members[rb as usize].iter().all(|&y| {
+                !tracks[x as usize].conflicts(&tracks[y as usize])
+                    && different.binary_search(&(x.min(y), x.max(y))).is_err()
+            })
+        });
+        if !ok {
+            return false;
+        }
+        let (big, small) = if members[ra as usize].len() >= members[rb as usize].len() {
+            (ra, rb)
+        } else {
+            (rb, ra)
+        };
+        let moved = std::mem::take(&mut members[small as usize]);
+        for &x in &moved {
+            root[x as usize] = big;
+        }
+        members[big as usize].extend(moved);
+        true
+    };
+    for (a, b) in forced {
+        join(a, b, &mut root, &mut members);
+    }
+    for k in order {
+        let (a, b) = pairs[k];
+        joined[k] = join(a, b, &mut root, &mut members);
+    }
+    let mut id = vec![u32::MAX; n];
+    let mut next = 0u32;
+    let mut object = vec![0u32; n];
+    for t in 0..n {
+        let r = root[t] as usize;
+        if id[r] == u32::MAX {
+            id[r] = next;
+            next += 1;
+        }
+        object[t] = id[r];
+    }
+    different.clear();
+    (object, joined)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tr(source: u32, start: f64, end: f64, spread: f64) -> Track {
+        Track {
+            source,
+            start,
+            end,
+            spread,
+        }
+    }
+
+    #[test]
+    fn two_tracks_are_a_logistic_of_their_ratio() {
+        let tracks = [tr(0, 0.0, 10.0, 1.0), tr(1, 0.0, 10.0, 2.0)];
+        for l in [-5.0, 0.0, 2.0, 7.0] {
+            let p = posterior(
+                &tracks,
+                &[(0, 1)],
+                &[l],
+                &[],
+                &Inference::default(),
+                (0.01, 0.99),
+            )
+            .unwrap();
+            let want = 1.0 / (1.0 + (-l).exp());
+            assert!((p.p_same[0] - want).abs() < 1e-12, "{l}: {}", p.p_same[0]);
+            assert!((p.p_alone[0] - (1.0 - want)).abs() < 1e-12);
+        }
+    }
+
+    /// A random component: `n` tracks of 3 sources with random spans, every pair of different
+    /// sources a candidate with a random ratio.
+    fn random_component(seed: u64, n: usize) -> (Vec<Track>, Vec<(u32, u32)>, Vec<f64>) {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        let tracks: Vec<Track> = (0..n)
+            .map(|_| {
+                let s = (rng.next_u64() % 3) as u32;
+                let t0 = unit(&mut rng) * 10.0;
+                tr(s, t0, t0 + 2.0 + unit(&mut rng) * 8.0, unit(&mut rng))
+            })
+            .collect();
+        let mut pairs = Vec::new();
+        let mut llr = Vec::new();
+        for a in 0..n as u32 {
+            for b in a + 1..n as u32 {
+                if tracks[a as usize].source != tracks[b as usize].source && unit(&mut rng) < 0.7 {
+                    pairs.push((a, b));
+                    llr.push(unit(&mut rng) * 8.0 - 3.0);
+                }
+            }
+        }
+        (tracks, pairs, llr)
+    }
+
+    #[test]
+    fn the_sampler_agrees_with_enumeration() {
+        let mut worst: f64 = 0.0;
+        for seed in 0..12 {
+            let (tracks, pairs, llr) = random_component(seed, 7);
+            let exact = posterior(
+                &tracks,
+                &pairs,
+                &llr,
+                &[],
+                &Inference::default(),
+                (0.01, 0.99),
+            )
+            .unwrap();
+            assert!(exact.components.iter().all(|c| c.method == Method::Exact));
+            let inf = Inference {
+                exact_limit: 0,
+                chains: 4,
+                sweeps: 4000,
+                seed,
+            };
+            let sampled = posterior(&tracks, &pairs, &llr, &[], &inf, (0.01, 0.99)).unwrap();
+            for k in 0..pairs.len() {
+                let err = (exact.p_same[k] - sampled.p_same[k]).abs();
+                worst = worst.max(err);
+                // within 5 standard errors (and 0.01 for marginals the chains all agree on)
+                assert!(
+                    err <= 5.0 * sampled.std_error[k] + 0.02,
+                    "seed {seed} pair {k}: exact {} sampled {} +- {}",
+                    exact.p_same[k],
+                    sampled.p_same[k],
+                    sampled.std_error[k]
+                );
+            }
+            for t in 0..tracks.len() {
+                assert!((exact.p_alone[t] - sampled.p_alone[t]).abs() < 0.05);
+            }
+        }
+        assert!(worst < 0.05, "worst {worst}");
+    }
+}
