@@ -417,6 +417,7 @@ class Association:
         pd = _pandas()
         self.reports = reports
         self.options = options
+        self._raw = raw
         #: The operator decisions the association was computed under (``Decisions``), if any.
         self.decisions: Any = None
         self.candidates = int(raw["candidates"])
@@ -496,6 +497,40 @@ class Association:
         settle the most probability mass first)."""
         q = self.pairs[self.pairs["class"] == "borderline"]
         return q.sort_values("review_rank").reset_index(drop=True)
+
+    def with_decisions(self, decisions: Any) -> Association:
+        """The association recomputed under operator ``decisions`` (a path, a DataFrame or a
+        ``Decisions``; see :func:`geofeas.read_decisions`) without scoring the pairs again:
+        the posterior, classes, review order and objects of every component follow the
+        decisions, as :func:`associate` with ``decisions=`` would give them."""
+        from .decisions import Decisions, read_decisions
+
+        dec = decisions if isinstance(decisions, Decisions) else read_decisions(
+            decisions, self.reports
+        )
+        raw = self._raw
+        core, _ = _resolve_options(
+            self.reports.sources,
+            {k: v for k, v in self.options.items() if k in ASSOCIATION_DEFAULTS},
+            {k: v for k, v in self.options.items() if k not in ASSOCIATION_DEFAULTS},
+        )
+        out = _core.association_finish(
+            raw["track_source"],
+            raw["track_start"],
+            raw["track_end"],
+            raw["track_spread"],
+            np.ascontiguousarray(raw["a"], dtype=np.uint32),
+            np.ascontiguousarray(raw["b"], dtype=np.uint32),
+            raw["stats"],
+            raw["counts"],
+            *dec._core_args(),
+            geographic=self.reports.coords == "geographic",
+            options=core,
+            candidates=self.candidates,
+        )
+        result = Association(self.reports, out, dict(self.options))
+        result.decisions = dec
+        return result
 
     def assignment(
         self, source_a: Any, source_b: Any, *, min_p: float | None = None

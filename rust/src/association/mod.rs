@@ -169,6 +169,12 @@ pub struct Association {
     pub components: Vec<posterior::ComponentInfo>,
     /// Coverage `P_s` estimated per source.
     pub coverage: Vec<f64>,
+    /// What the posterior was computed from, so that it can be recomputed under operator
+    /// decisions without scoring again ([`finish`]): the tracks, the summaries of the pairs
+    /// and the picture counts.
+    pub tracks: Vec<posterior::Track>,
+    pub stats: Vec<PairStat>,
+    pub counts: evidence::Counts,
 }
 
 fn mix(a: u32, b: u32, k: usize) -> u64 {
@@ -182,17 +188,20 @@ fn mix(a: u32, b: u32, k: usize) -> u64 {
 /// The two AOUs of one instant in the pair's local frame (planar: as they are; geographic: the
 /// AEQD frame centred on the first, see [`geodesy`]).
 pub fn local_pair(coords: Coords, a: &State, b: &State) -> (Ellipse, Ellipse) {
+    let (d, cb) = local_offset(coords, a, b);
+    (
+        Gaussian::new([0.0, 0.0], a.cov).to_ellipse(),
+        Gaussian::new(d, cb).to_ellipse(),
+    )
+}
+
+/// The centre of `b` relative to `a` and `b`'s covariance, in the pair's local frame.
+fn local_offset(coords: Coords, a: &State, b: &State) -> ([f64; 2], [f64; 3]) {
     match coords {
-        Coords::Planar => (
-            Gaussian::new(a.pos, a.cov).to_ellipse(),
-            Gaussian::new(b.pos, b.cov).to_ellipse(),
-        ),
+        Coords::Planar => ([b.pos[0] - a.pos[0], b.pos[1] - a.pos[1]], b.cov),
         Coords::Geographic => {
             let (d, rot) = geodesy::log_map(a.pos, b.pos);
-            (
-                Gaussian::new([0.0, 0.0], a.cov).to_ellipse(),
-                Gaussian::new(d, geodesy::rotate_cov(b.cov, rot)).to_ellipse(),
-            )
+            (d, geodesy::rotate_cov(b.cov, rot))
         }
     }
 }
@@ -213,14 +222,12 @@ pub struct PairInstants {
 /// `[d^T S^-1 d, ln det S, tr S / det S, 1 / det S]` of one instant, `S = R_a + R_b` in the
 /// pair's local frame (`NaN`-free: a singular `S` gives `+inf` distances).
 pub fn gaussian_instant(coords: Coords, a: &State, b: &State) -> [f64; 4] {
-    let (d, cb) = match coords {
-        Coords::Planar => ([b.pos[0] - a.pos[0], b.pos[1] - a.pos[1]], b.cov),
-        Coords::Geographic => {
-            let (d, rot) = geodesy::log_map(a.pos, b.pos);
-            (d, geodesy::rotate_cov(b.cov, rot))
-        }
-    };
-    let (sxx, sxy, syy) = (a.cov[0] + cb[0], a.cov[1] + cb[1], a.cov[2] + cb[2]);
+    let (d, cb) = local_offset(coords, a, b);
+    gaussian_of(a.cov, d, cb)
+}
+
+fn gaussian_of(ca: [f64; 3], d: [f64; 2], cb: [f64; 3]) -> [f64; 4] {
+    let (sxx, sxy, syy) = (ca[0] + cb[0], ca[1] + cb[1], ca[2] + cb[2]);
     let det = sxx * syy - sxy * sxy;
     if det.is_nan() || det <= 0.0 {
         return [
@@ -246,7 +253,11 @@ pub fn pair_instants(r: &Reports, a: usize, b: usize, o: &Options) -> PairInstan
     };
     let plain_glr = matches!(o.score, Score::Glr(g) if !g.threshold);
     for (k, i) in inst.iter().enumerate() {
-        let (ea, eb) = local_pair(r.coords, &i.a, &i.b);
+        let (d, cb) = local_offset(r.coords, &i.a, &i.b);
+        let (ea, eb) = (
+            Gaussian::new([0.0, 0.0], i.a.cov).to_ellipse(),
+            Gaussian::new(d, cb).to_ellipse(),
+        );
         let (g, m) = if plain_glr {
             let m = mahalanobis2(&Frame::new(&ea), &Frame::new(&eb));
             ((-0.5 * m).exp(), m)
@@ -264,7 +275,7 @@ pub fn pair_instants(r: &Reports, a: usize, b: usize, o: &Options) -> PairInstan
         out.time.push(i.time);
         out.g.push(g);
         out.m.push(m.max(0.0));
-        out.gauss.push(gaussian_instant(r.coords, &i.a, &i.b));
+        out.gauss.push(gaussian_of(i.a.cov, d, cb));
     }
     out
 }
@@ -388,8 +399,9 @@ pub fn associate(
         .filter(|(_, st)| st.instants > 0)
         .map(|(&p, st)| (p, *st))
         .collect();
-    let picture = Picture::estimate(r, &o.model, o.align.max_gap);
-    finish(
+    let counts = evidence::Counts::of(r, o.model.cell, o.align.max_gap);
+    let picture = Picture::from_counts(counts.clone(), &o.model);
+    let mut res = finish(
         &track_summaries(r),
         &picture,
         &o,
@@ -397,7 +409,9 @@ pub fn associate(
         &kept,
         decisions,
         interrupt,
-    )
+    )?;
+    res.counts = counts;
+    Ok(res)
 }
 
 /// What the posterior needs of every track of `r`: source, time span and typical AOU size.
@@ -556,5 +570,7 @@ pub fn finish(
     res.p_alone = post.p_alone;
     res.components = post.components;
     res.object = object;
+    res.tracks = tracks.to_vec();
+    res.stats = kept.iter().map(|x| x.1).collect();
     Ok(res)
 }

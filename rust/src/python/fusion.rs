@@ -71,6 +71,11 @@ fn association_pair_stats<'py>(
     let out = detached(py, || {
         association::score_pairs(&r, &pairs, &o, &mut check_signals)
     })?;
+    stats_dict(py, &out)
+}
+
+/// The fields of pair summaries as a dict of arrays (`pos` as `pos_0`, `pos_1`).
+pub(super) fn stats_dict<'py>(py: Python<'py>, out: &[PairStat]) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let col = |f: fn(&PairStat) -> f64| out.iter().map(f).collect::<Vec<f64>>();
     d.set_item("score", col(|p| p.score).into_pyarray(py))?;
@@ -111,7 +116,7 @@ fn association_picture_counts<'py>(
     counts_dict(py, &c)
 }
 
-fn counts_dict<'py>(py: Python<'py>, c: &Counts) -> PyResult<Bound<'py, PyDict>> {
+pub(super) fn counts_dict<'py>(py: Python<'py>, c: &Counts) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("secs", c.secs.clone().into_pyarray(py))?;
     let s: Vec<u32> = c.grid.keys().map(|k| k.0).collect();
@@ -227,8 +232,8 @@ fn association_finish<'py>(
         .collect();
     let counts = counts_of(&counts, geographic, o.model.cell)?;
     let res = detached(py, || {
-        let picture = Picture::from_counts(counts, &o.model);
-        association::finish(
+        let picture = Picture::from_counts(counts.clone(), &o.model);
+        let mut res = association::finish(
             &tracks,
             &picture,
             &o,
@@ -236,7 +241,9 @@ fn association_finish<'py>(
             &kept,
             &dec,
             &mut check_signals,
-        )
+        )?;
+        res.counts = counts;
+        Ok(res)
     })?;
     super::association::result_dict(py, res)
 }
