@@ -16,7 +16,7 @@ from scipy.special import gammaincc
 
 import geofeas
 from geofeas import _core
-from geofeas.association import DEFAULT_UPPER
+from geofeas.association import ASSOCIATION_DEFAULTS, DEFAULT_UPPER, _resolve_options
 from geofeas.cli import main
 
 # ---------------------------------------------------------------------------------------------
@@ -156,8 +156,8 @@ def test_table_errors_name_the_row():
         geofeas.read_reports("reports.txt")
     with pytest.raises(geofeas.GeofeasError, match="combine"):
         geofeas.associate(df.assign(lat=0.0), combine="median")
-    with pytest.raises(geofeas.GeofeasError, match="upper"):
-        geofeas.associate(df.assign(lat=0.0), upper=0.2)
+    with pytest.raises(geofeas.GeofeasError, match="p_match"):
+        geofeas.associate(df.assign(lat=0.0), p_match=0.3)
     with pytest.raises(TypeError, match="unexpected"):
         geofeas.associate(df.assign(lat=0.0), sample=3)
 
@@ -171,10 +171,11 @@ def _scores(frame, a, b, **kw):
     ids = list(rep.track_ids)
     ia = np.array([ids.index(a)], dtype=np.uint32)
     ib = np.array([ids.index(b)], dtype=np.uint32)
-    s, k, _, _ = _core.association_pair_stats(
-        *rep._core_args(), ia, ib, geographic=False, **{"inflation": 1.0, **kw}
-    )
-    return float(s[0]), int(k[0])
+    engine = {k: v for k, v in kw.items() if k in ASSOCIATION_DEFAULTS}
+    score = {k: v for k, v in kw.items() if k not in ASSOCIATION_DEFAULTS}
+    core, _ = _resolve_options(rep.sources, {"inflation": 1.0, **engine}, score)
+    st = _core.association_pair_stats(*rep._core_args(), ia, ib, geographic=False, options=core)
+    return float(st["score"][0]), int(st["instants"][0])
 
 
 def test_interpolation_exact_for_linear_motion(rng):
@@ -385,13 +386,15 @@ def test_renumbered_tracks_form_one_object_and_overlaps_are_refused(rng):
     dup = straight_track(rng, "r3", "radar", (500, 0), (5, 0), 3, 30, duration=300, t0=100)
     res = geofeas.associate(pd.concat([frame, dup]))
     obj = res.objects.set_index("track_id")["object"]
+    # the renumbered track joins the ship
     assert obj["ais"] == obj["r2"]
-    assert obj["ais"] == obj["r1"] or obj["ais"] == obj["r3"]
     assert obj["r1"] != obj["r3"]
     cls = res.pairs.set_index(["track_a", "track_b"])["class"]
-    demoted = [p for p in (("ais", "r1"), ("ais", "r3")) if cls[p] != "match"]
-    assert len(demoted) == 1
-    assert cls[demoted[0]] == "borderline"
+    p = res.pairs.set_index(["track_a", "track_b"])["p_same"]
+    # r1 and r3 exclude each other: their probabilities of being the AIS ship's add up to at
+    # most one, and at most one of them is merged
+    assert p[("ais", "r1")] + p[("ais", "r3")] <= 1.0 + 1e-9
+    assert [cls[q] for q in (("ais", "r1"), ("ais", "r3"))].count("match") <= 1
 
 
 def test_one_to_one_assignment_matches_scipy(rng):
@@ -513,7 +516,15 @@ def test_cli_associate_csv_and_parquet(tmp_path, rng):
         == 0
     )
     pairs = pd.read_csv(out)
-    assert list(pairs.columns) == ["track_a", "track_b", "score", "instants", "class"]
+    assert list(pairs.columns) == [
+        "track_a",
+        "track_b",
+        "score",
+        "instants",
+        "class",
+        "p_same",
+        "review_rank",
+    ]
     assert set(pairs["class"]) <= {"match", "borderline", "non-match"}
     assert (pairs.track_a < pairs.track_b).all()
     api = geofeas.associate(src).pairs
@@ -629,7 +640,8 @@ def test_auto_inflation_recovers_true_pairs_with_optimistic_aous(rng):
     # factor is somewhat below 3.4
     assert 2.3 < c < 3.6
     assert strict.inflation == {("ais", "radar"): 1.0}
-    assert geofeas.associate(frame, combine="geometric").inflation == {}
+    # the inflation serves the posterior whatever rule makes the score column
+    assert geofeas.associate(frame, combine="geometric").inflation == auto.inflation
 
 
 def test_assignment_is_one_to_one_between_two_sources(rng):
@@ -645,16 +657,16 @@ def test_assignment_is_one_to_one_between_two_sources(rng):
     one = res.assignment("ais", "radar")
     tracks = list(one.track_a) + list(one.track_b)
     assert len(tracks) == len(set(tracks))  # nobody twice
-    total = one.score.sum()
+    total = one.p_same.sum()
     # brute force over all one-to-one choices of the candidate pairs between the two sources
-    p = res.pairs[res.pairs.score >= 0.5]
+    p = res.pairs[res.pairs.p_same >= 0.01]
     best = 0.0
     rows = list(p.itertuples())
     for mask in range(1 << len(rows)):
         chosen = [r for i, r in enumerate(rows) if mask >> i & 1]
         ends = [r.track_a for r in chosen] + [r.track_b for r in chosen]
         if len(ends) == len(set(ends)):
-            best = max(best, sum(r.score for r in chosen))
+            best = max(best, sum(r.p_same for r in chosen))
     assert total == pytest.approx(best, rel=1e-12)
     with pytest.raises(geofeas.GeofeasError, match="unknown source"):
         res.assignment("ais", "sonar")
@@ -666,12 +678,20 @@ def test_empty_reports_give_empty_results():
     ).assign(track_id=np.array([], dtype=np.int64), source=np.array([], dtype=np.int64))
     res = geofeas.associate(empty)
     assert len(res.pairs) == 0 and len(res.objects) == 0
-    assert list(res.pairs.columns) == ["track_a", "track_b", "score", "instants", "class"]
+    assert list(res.pairs.columns)[:7] == [
+        "track_a",
+        "track_b",
+        "score",
+        "instants",
+        "class",
+        "p_same",
+        "review_rank",
+    ]
 
 
-def test_margin_sends_ambiguous_matches_to_the_operator(rng):
+def test_ships_geometry_cannot_separate_are_left_to_the_operator(rng):
     # two ships 30 m apart, each with an AIS track, and a radar track (2-sigma 300 m) of the first:
-    # geography cannot tell which ship the radar sees
+    # geography cannot tell which ship the radar sees, so neither pair may be a confident merge
     frame = pd.concat(
         [
             straight_track(rng, "ais-1", "ais", (0, 0), (5, 0), 10, 5),
@@ -682,9 +702,65 @@ def test_margin_sends_ambiguous_matches_to_the_operator(rng):
             straight_track(rng, "radar-3", "radar", (0, 5000), (5, 0), 4, 20),
         ]
     )
-    plain = geofeas.associate(frame).pairs.set_index(["track_a", "track_b"])["class"]
-    assert "match" in {plain[("ais-1", "radar")], plain[("ais-2", "radar")]}
-    strict = geofeas.associate(frame, margin=3.0).pairs.set_index(["track_a", "track_b"])["class"]
-    assert strict[("ais-1", "radar")] == "borderline"
-    assert strict[("ais-2", "radar")] == "borderline"
-    assert strict[("ais-3", "radar-3")] == "match"
+    res = geofeas.associate(frame)
+    pairs = res.pairs.set_index(["track_a", "track_b"])
+    assert pairs.loc[("ais-1", "radar"), "class"] == "borderline"
+    assert pairs.loc[("ais-2", "radar"), "class"] == "borderline"
+    # the two explanations share the radar track: their probabilities add up to about one
+    both = pairs.loc[("ais-1", "radar"), "p_same"] + pairs.loc[("ais-2", "radar"), "p_same"]
+    assert 0.95 < both <= 1.0 + 1e-9
+    assert pairs.loc[("ais-3", "radar-3"), "class"] == "match"
+    assert pairs.loc[("ais-3", "radar-3"), "p_same"] > 0.999
+    # both borderline pairs are in the review queue; an operator who confirms the first settles
+    # the second
+    queue = res.review_queue
+    assert set(zip(queue.track_a, queue.track_b, strict=True)) == {
+        ("ais-1", "radar"),
+        ("ais-2", "radar"),
+    }
+    assert list(queue.review_rank) == [1, 2]
+    decided = res.with_decisions(
+        pd.DataFrame({"track_a": ["radar"], "track_b": ["ais-1"], "decision": ["same"]})
+    )
+    after = decided.pairs.set_index(["track_a", "track_b"])
+    assert after.loc[("ais-1", "radar"), "p_same"] == 1.0
+    assert after.loc[("ais-1", "radar"), "class"] == "match"
+    assert after.loc[("ais-2", "radar"), "p_same"] == 0.0
+    assert after.loc[("ais-2", "radar"), "class"] == "non-match"
+    assert decided.review_queue.empty
+    # the same through associate(decisions=...)
+    confirm = pd.DataFrame({"track_a": ["ais-1"], "track_b": ["radar"], "decision": ["same"]})
+    again = geofeas.associate(frame, decisions=confirm)
+    np.testing.assert_array_equal(again.pairs.p_same, decided.pairs.p_same)
+
+
+def test_decisions_files_are_read_and_contradictions_refused(tmp_path, rng):
+    frame = pd.concat(
+        [
+            straight_track(rng, "s007", "ais", (0, 0), (5, 0), 10, 5),
+            straight_track(rng, "s7", "radar", (0, 0), (5, 0), 4, 50),
+            straight_track(rng, "x", "aircraft", (0, 0), (5, 0), 10, 200),
+        ]
+    )
+    path = tmp_path / "decisions.csv"
+    path.write_text(
+        "track_a,track_b,decision,operator,time\n"
+        "s007,s7,same,ana,2026-01-01T10:00:00Z\n"
+        "s7,x,same,ana,2026-01-01T10:01:00Z\n"
+        "s007,x,different,bo,2026-01-01T10:02:00Z\n"
+    )
+    before = path.read_bytes()
+    with pytest.raises(geofeas.GeofeasError, match=r"row 2: .* rows 0, 1"):
+        geofeas.associate(frame, decisions=path)
+    assert path.read_bytes() == before  # never written
+    path.write_text("track_a,track_b,decision\ns007,s7,maybe\n")
+    with pytest.raises(geofeas.GeofeasError, match=r"line 2: column decision"):
+        geofeas.associate(frame, decisions=path)
+    path.write_text("track_a,track_b,decision\ns007,s8,same\n")
+    with pytest.raises(geofeas.GeofeasError, match=r"line 2: column track_b: unknown track id"):
+        geofeas.associate(frame, decisions=path)
+    path.write_text("track_a,track_b,decision\ns007,s7,same\n")
+    res = geofeas.associate(frame, decisions=path)
+    p = res.pairs.set_index(["track_a", "track_b"])["p_same"]
+    assert p[("s007", "s7")] == 1.0
+    assert res.decisions.frame.shape == (1, 3)

@@ -5,12 +5,15 @@ several sources observing its vessels (AIS self-reports, a coastal radar, a patr
 HF direction-finding net; each with its own track numbers, dropouts and false tracks), associates
 their reports and scores the association against the MMSI ground truth: precision, recall and F1
 of the duplicate-track pairs, the candidate pairs per triage class and the time taken, for the
-default configuration and for every score and combination rule. Writes into ``--out``:
-``reports.csv`` (the simulated reports, with the truth column ``mmsi``; ``geofeas associate``
-reads it), ``pairs.csv`` (the default association's candidate pairs with the truth),
-``metrics.csv`` and ``metrics.md`` (one row per score and combination rule),
-``metrics_by_sources.csv`` and ``map.png`` (AOUs of a busy area coloured by associated object;
-needs matplotlib).
+default association: the operator load (borderline pairs per true duplicate), the precision of
+the automatic merges, the true pairs lost to non-match, the calibration of p_same (expected
+calibration error) and the F1 a truthful operator reaches after 0, 25, 50, 100 and 200
+decisions in review order. Writes into ``--out``: ``reports.csv`` (the simulated reports, with
+the truth column ``mmsi``; ``geofeas associate`` reads it), ``pairs.csv`` (the default
+association's candidate pairs with the truth), ``metrics.csv`` and ``metrics.md``,
+``metrics_by_sources.csv``, ``calibration.csv`` and ``calibration.png`` (the reliability
+diagram), ``operator.csv`` and ``operator.png`` (F1 against decisions) and ``map.png`` (AOUs of
+a busy area coloured by associated object); the figures need matplotlib.
 """
 
 from __future__ import annotations
@@ -44,23 +47,16 @@ def main(args: argparse.Namespace) -> int:
         from .demo import fmt, run, write_outputs
     except ImportError as exc:
         raise GeofeasError(f"demo needs pandas: pip install 'geofeas[io]' ({exc})") from None
-    options: dict[str, Any] = {}
-    if args.lower is not None:
-        options["lower"] = args.lower
-    if args.upper is not None:
-        options["upper"] = args.upper
-    if args.margin is not None:
-        options["margin"] = args.margin
-    scores = args.score if args.score else list(SCORES)
+    options: dict[str, Any] = {"p_match": args.p_match, "p_reject": args.p_reject}
     result = run(
         args.ais,
         sensors=args.sensors,
         seed=args.seed,
         minutes=args.minutes,
-        scores=scores,
-        combines=args.combine,
-        grid=args.grid,
+        scores=args.score or (),
+        combines=args.combine or (),
         options=options,
+        operator=None if args.no_operator else (0, 25, 50, 100, 200),
         progress=not args.no_progress,
         log=print,
     )
@@ -94,10 +90,18 @@ def main(args: argparse.Namespace) -> int:
         f"({m.tp} TP, {m.fp} FP of which {m.fp_with_false_track} with a false track, "
         f"{m.fn} FN)"
     )
+    summ = result.summary()
     print(
-        f"  missed true pairs: {m.fn_demoted} scored a match but the grouping demoted them, "
-        f"{m.fn - m.fn_demoted} scored lower"
+        f"  operator load: {summ['operator_load']:.3f} borderline pairs per true duplicate; "
+        f"automatic merges {fmt(summ['merge_precision'])} correct; "
+        f"{summ['lost']:.2%} of the true pairs lost to non-match"
     )
+    print(f"  calibration of p_same: expected calibration error {summ['ece']:.4f}")
+    if result.operator is not None:
+        steps = "  ".join(
+            f"{int(r.decisions)}: {fmt(r.f1)}" for r in result.operator.itertuples()
+        )
+        print(f"  F1 after truthful decisions in review order: {steps}")
     if m.object_f1 == m.object_f1:
         print(
             f"  pairs implied by the objects: precision {fmt(m.object_precision)}  "
@@ -156,28 +160,25 @@ def add_parser(sub: Any) -> None:
         "--score",
         action="append",
         choices=list(SCORES),
-        help="score of the comparison table (repeatable; default all)",
+        help="also associate with this score for the comparison table (repeatable)",
     )
     p.add_argument(
         "--combine",
         action="append",
         choices=list(COMBINE_RULES),
-        help="combination rule of the comparison table (repeatable; default all)",
+        help="also associate with this rule for the comparison table (repeatable)",
     )
-    p.add_argument("--lower", type=float, default=None, help="triage: non-match below")
-    p.add_argument("--upper", type=float, default=None, help="triage: match at or above")
     p.add_argument(
-        "--margin",
+        "--p-match", type=float, default=0.99, help="match when p_same >= this (default 0.99)"
+    )
+    p.add_argument(
+        "--p-reject",
         type=float,
-        default=None,
-        help="matches must beat their mutually exclusive rivals by this log-likelihood margin "
-        "(default: no such check)",
+        default=0.01,
+        help="non-match when p_same <= this (default 0.01)",
     )
     p.add_argument(
-        "--grid",
-        action="store_true",
-        help="table over every score x rule (default: each score with the default rule and "
-        "each rule with glr)",
+        "--no-operator", action="store_true", help="do not simulate the operator"
     )
     p.add_argument("--no-map", action="store_true", help="do not draw map.png")
     p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")

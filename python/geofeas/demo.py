@@ -2,8 +2,10 @@
 scored against the MMSI ground truth (``geofeas demo``).
 
 :func:`run` reads and cleans the recording (:mod:`geofeas.ais`), simulates the sources
-(:mod:`geofeas.scenario`), associates the reports with the default configuration and with every
-score and combination rule asked for, and scores each association (:mod:`geofeas.evaluate`).
+(:mod:`geofeas.scenario`), associates the reports with the default configuration (and with any
+score and combination rule asked for), scores the association against the truth
+(:mod:`geofeas.evaluate`): the triage, the calibration of ``p_same`` (reliability diagram,
+expected calibration error) and an operator who answers the review queue truthfully.
 :func:`plot_map` draws the AOUs of a busy area coloured by associated object.
 """
 
@@ -24,7 +26,7 @@ import pandas as pd
 from ._core import GeofeasError
 from .ais import AisRecording, read_ais
 from .association import COMBINE_RULES, associate, read_reports
-from .evaluate import Metrics, evaluate, track_table
+from .evaluate import Metrics, evaluate, labels, reliability, simulate_operator, track_table
 from .scenario import Scenario, metres_per_degree, simulate
 
 __all__ = ["RECORDINGS", "SCORES", "DemoResult", "Progress", "bundled", "plot_map", "run"]
@@ -94,6 +96,7 @@ class Run:
     metrics: Metrics
     pairs: pd.DataFrame
     objects: pd.DataFrame | None
+    association: Any = None
 
 
 @dataclass
@@ -105,6 +108,28 @@ class DemoResult:
     tracks: pd.DataFrame
     default: Run
     runs: list[Run] = field(default_factory=list)
+    #: Reliability table of the default association's ``p_same`` (see
+    #: :func:`geofeas.evaluate.reliability`) and its expected calibration error.
+    calibration: pd.DataFrame | None = None
+    ece: float = math.nan
+    #: F1 after each number of truthful operator decisions (:func:`simulate_operator`).
+    operator: pd.DataFrame | None = None
+
+    def summary(self) -> dict[str, float]:
+        """The operator's view of the default association: ``operator_load`` (borderline pairs
+        per true duplicate pair), ``merge_precision`` (share of the automatic merges that are
+        right), ``lost`` (share of the true pairs classed ``non-match``) and ``ece``."""
+        pairs = self.default.pairs
+        y = labels(pairs, self.tracks)
+        cls = pairs["class"].to_numpy()
+        n_true = max(self.default.metrics.true_pairs, 1)
+        match = cls == "match"
+        return dict(
+            operator_load=float((cls == "borderline").sum() / n_true),
+            merge_precision=float(y[match].mean()) if match.any() else math.nan,
+            lost=float((y & (cls == "non-match")).sum() / n_true),
+            ece=self.ece,
+        )
 
     def metrics_table(self) -> pd.DataFrame:
         """One row per association (the default first): score, combine and the metrics."""
@@ -140,9 +165,8 @@ def _associate(
     seconds = time.perf_counter() - t0
     pairs = result.pairs
     objects = getattr(result, "objects", None)
-    upper = getattr(result, "options", {}).get("upper")
-    metrics = evaluate(tracks, pairs, objects=objects, seconds=seconds, upper=upper)
-    return Run(score, combine or default_combine(), metrics, pairs, objects)
+    metrics = evaluate(tracks, pairs, objects=objects, seconds=seconds)
+    return Run(score, combine or default_combine(), metrics, pairs, objects, result)
 
 
 def run(
@@ -152,10 +176,10 @@ def run(
     sensors: Sequence[Any] = ("ais", "radar", "aircraft", "hfdf"),
     seed: int = 0,
     minutes: float | None = None,
-    scores: Sequence[str] | None = None,
-    combines: Sequence[str] | None = None,
-    grid: bool = False,
+    scores: Sequence[str] = (),
+    combines: Sequence[str] = (),
     options: dict[str, Any] | None = None,
+    operator: Sequence[int] | None = (0, 25, 50, 100, 200),
     progress: bool = True,
     log: Callable[[str], None] | None = None,
 ) -> DemoResult:
@@ -167,15 +191,15 @@ def run(
         A bundled recording name (:data:`RECORDINGS`) or the path of an AIS CSV file.
     sensors, seed, minutes
         Passed to :func:`geofeas.scenario.simulate`.
-    scores : sequence of str, optional
-        Scores of the comparison table (keys of :data:`SCORES`; default all).
-    combines : sequence of str, optional
-        Combination rules of the table (default: all the engine offers).
-    grid : bool
-        Table over every score x rule; by default each score with the default rule and each rule
-        with the default score (``glr``).
+    scores, combines : sequence of str
+        Further associations for a comparison table of the ``score`` column's configurations
+        (keys of :data:`SCORES`, and combination rules, each with the other's default). The
+        classes come from the posterior, which does not depend on them.
     options : dict, optional
-        Further keyword options of every ``associate`` call (``lower``, ``upper``, ...).
+        Further keyword options of every ``associate`` call (``p_match``, ``p_reject``, ...).
+    operator : sequence of int, optional
+        Decision counts at which the simulated operator's F1 is recorded (``None``: no
+        simulation).
     progress : bool
         Show a progress bar on stderr over the associations.
     log : callable, optional
@@ -193,35 +217,33 @@ def run(
     tracks = track_table(sc.reports, sc.seconds)
     reports = read_reports(sc.reports[REPORT_COLUMNS])
     opts = dict(options or {})
-    scores = list(scores) if scores is not None else list(SCORES)
     for s in scores:
         if s not in SCORES:
             raise GeofeasError(f"unknown score {s!r}; expected one of {list(SCORES)}")
-    combines = list(combines) if combines is not None else list(COMBINE_RULES)
     for c in combines:
         if c not in COMBINE_RULES:
             raise GeofeasError(f"unknown combination rule {c!r}; expected one of {COMBINE_RULES}")
     dflt = default_combine()
-    if grid:
-        configs = [(s, c) for s in scores for c in combines]
-    else:
-        configs = [(s, dflt) for s in scores] + [("glr", c) for c in combines]
-        configs = [c for k, c in enumerate(configs) if c not in configs[:k]]
-    todo = [c for c in configs if c != ("glr", dflt)]
-    bar = Progress(1 + len(todo), "associate") if progress else None
-    say(f"associating {len(sc.reports)} reports: {1 + len(todo)} configurations")
+    configs = [(s, dflt) for s in scores] + [("glr", c) for c in combines]
+    configs = [c for k, c in enumerate(configs) if c not in configs[:k] and c != ("glr", dflt)]
+    steps = 1 + len(configs) + (1 if operator is not None else 0)
+    bar = Progress(steps, "demo") if progress else None
+    say(f"associating {len(sc.reports)} reports")
     default = _associate(reports, tracks, "glr", None, opts)
     if bar:
         bar.step(f"glr / {dflt} (default)")
+    table, ece = reliability(default.pairs["p_same"], labels(default.pairs, tracks))
     runs = []
     for s, c in configs:
-        if (s, c) == ("glr", dflt):
-            runs.append(default)
-            continue
         runs.append(_associate(reports, tracks, s, c, opts))
         if bar:
             bar.step(f"{s} / {c}")
-    return DemoResult(rec, sc, tracks, default, runs)
+    op = None
+    if operator is not None:
+        op = simulate_operator(default.association, tracks, checkpoints=operator)
+        if bar:
+            bar.step("simulated operator")
+    return DemoResult(rec, sc, tracks, default, runs, table, ece, op)
 
 
 # ------------------------------------------------------------------------------------ map
@@ -369,9 +391,98 @@ def write_outputs(result: DemoResult, out: str | Path, *, map_png: bool = True) 
         p = d / "metrics_by_sources.csv"
         result.default.metrics.by_sources.to_csv(p, index=False, float_format="%.4f")
         written.append(p)
+    if result.calibration is not None:
+        p = d / "calibration.csv"
+        result.calibration.to_csv(p, index=False, float_format="%.5f")
+        written.append(p)
+    if result.operator is not None:
+        p = d / "operator.csv"
+        result.operator.to_csv(p, index=False, float_format="%.4f")
+        written.append(p)
     if map_png:
         written.append(plot_map(result, d / "map.png"))
+        if result.calibration is not None:
+            written.append(plot_reliability(result, d / "calibration.png"))
+        if result.operator is not None:
+            written.append(plot_operator(result, d / "operator.png"))
     return written
+
+
+def _name(result: DemoResult) -> str:
+    return Path(result.recording.source).name if result.recording.source else "recording"
+
+
+def _pyplot() -> Any:
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise GeofeasError(
+            'the figures need matplotlib: pip install "geofeas[plot]" (or use --no-map)'
+        ) from None
+    return plt
+
+
+def plot_reliability(result: DemoResult, path: str | Path, /) -> Path:
+    """The reliability diagram of the default association: observed frequency of true
+    duplicate-track pairs against the predicted ``p_same``, per bin, with Wilson 95 % intervals
+    and the number of pairs per bin."""
+    plt = _pyplot()
+    t = result.calibration
+    if t is None:
+        raise GeofeasError("no calibration table: run the demo first")
+    fig, (ax, hist) = plt.subplots(
+        2, 1, figsize=(6, 7), sharex=True, gridspec_kw={"height_ratios": [3, 1]}
+    )
+    ax.plot([0, 1], [0, 1], color="0.6", lw=1, label="perfect calibration")
+    yerr = np.vstack([t["observed"] - t["observed_lo"], t["observed_hi"] - t["observed"]])
+    ax.errorbar(
+        t["predicted"], t["observed"], yerr=yerr, fmt="o-", color="C0", capsize=3,
+        label="observed (Wilson 95 %)",
+    )
+    ax.set_ylabel("observed frequency of true duplicates")
+    ax.set_xlim(0, 1)
+    ax.set_ylim(0, 1)
+    ax.set_aspect("equal")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left")
+    ax.set_title(
+        f"Reliability of p_same ({_name(result)})\n"
+        f"expected calibration error {result.ece:.4f}, {int(t['n'].sum())} pairs"
+    )
+    hist.bar((t["lo"] + t["hi"]) / 2, t["n"], width=t["hi"] - t["lo"], color="C0", alpha=0.6)
+    hist.set_yscale("log")
+    hist.set_xlabel("predicted P(same object)")
+    hist.set_ylabel("pairs")
+    out = Path(path)
+    fig.savefig(out, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return out
+
+
+def plot_operator(result: DemoResult, path: str | Path, /) -> Path:
+    """F1 of the association after each number of truthful operator decisions in review
+    order."""
+    plt = _pyplot()
+    t = result.operator
+    if t is None:
+        raise GeofeasError("no operator simulation: run the demo with operator checkpoints")
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(t["decisions"], t["f1"], "o-", label="F1")
+    ax.plot(t["decisions"], t["precision"], "s--", label="precision", alpha=0.7)
+    ax.plot(t["decisions"], t["recall"], "^--", label="recall", alpha=0.7)
+    ax.set_xlabel("operator decisions (review order)")
+    ax.set_ylabel("duplicate-track pairs")
+    ax.set_ylim(min(0.8, float(t[["f1", "precision", "recall"]].min().min()) - 0.02), 1.0)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="lower right")
+    ax.set_title(f"A truthful operator in review order ({_name(result)})")
+    out = Path(path)
+    fig.savefig(out, dpi=120, bbox_inches="tight")
+    plt.close(fig)
+    return out
 
 
 def markdown_table(result: DemoResult) -> str:
@@ -380,7 +491,7 @@ def markdown_table(result: DemoResult) -> str:
         "| score | combine | precision | recall | F1 | match | borderline | non-match | time (s) |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
-    for r in result.runs or [result.default]:
+    for r in [result.default, *result.runs]:
         m = r.metrics
         name = f"**{r.score}**" if r is result.default else r.score
         rule = f"**{r.combine}**" if r is result.default else r.combine

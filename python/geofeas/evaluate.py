@@ -19,7 +19,16 @@ import pandas as pd
 
 from ._core import GeofeasError
 
-__all__ = ["Metrics", "evaluate", "prf", "track_table", "true_pairs"]
+__all__ = [
+    "Metrics",
+    "evaluate",
+    "labels",
+    "prf",
+    "reliability",
+    "simulate_operator",
+    "track_table",
+    "true_pairs",
+]
 
 CLASSES = ("match", "borderline", "non-match")
 
@@ -285,3 +294,134 @@ def _by_sources(
     return pd.DataFrame(
         rows, columns=["sources", "true_pairs", "predicted", "tp", "precision", "recall", "f1"]
     )
+
+
+def labels(pairs: pd.DataFrame, tracks: pd.DataFrame) -> np.ndarray:
+    """Whether each row of ``pairs`` (``track_a, track_b``) is a true duplicate-track pair."""
+    truth = true_pairs(tracks)
+    a = pairs["track_a"].astype(str).to_numpy()
+    b = pairs["track_b"].astype(str).to_numpy()
+    return np.array([_key(x, y) in truth for x, y in zip(a, b, strict=True)], dtype=bool)
+
+
+def reliability(p: Any, y: Any, *, bins: int = 10) -> tuple[pd.DataFrame, float]:
+    """The reliability diagram of predicted probabilities ``p`` against outcomes ``y``.
+
+    Returns a table with one row per equal-width bin of ``p`` that holds pairs (``lo``, ``hi``,
+    ``n``, ``predicted`` = mean ``p``, ``observed`` = frequency of ``y``, and the Wilson 95 %
+    interval ``observed_lo``, ``observed_hi``), and the expected calibration error
+    ``ECE = sum_b (n_b / N) |predicted_b - observed_b|``.
+    """
+    p = np.asarray(p, dtype=np.float64)
+    y = np.asarray(y, dtype=bool)
+    if p.shape != y.shape:
+        raise GeofeasError(f"reliability: p has shape {p.shape}, y {y.shape}")
+    if p.size and (np.isnan(p).any() or p.min() < 0 or p.max() > 1):
+        raise GeofeasError("reliability: p must be probabilities in [0, 1]")
+    edges = np.linspace(0.0, 1.0, bins + 1)
+    idx = np.clip(np.searchsorted(edges, p, side="right") - 1, 0, bins - 1)
+    rows = []
+    ece = 0.0
+    z = 1.959963984540054
+    for k in range(bins):
+        m = idx == k
+        n = int(m.sum())
+        if n == 0:
+            continue
+        pred, obs = float(p[m].mean()), float(y[m].mean())
+        centre = (obs + z * z / (2 * n)) / (1 + z * z / n)
+        half = z * math.sqrt(obs * (1 - obs) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+        rows.append(
+            dict(
+                lo=edges[k],
+                hi=edges[k + 1],
+                n=n,
+                predicted=pred,
+                observed=obs,
+                observed_lo=max(0.0, centre - half),
+                observed_hi=min(1.0, centre + half),
+            )
+        )
+        ece += n / p.size * abs(pred - obs)
+    cols = ["lo", "hi", "n", "predicted", "observed", "observed_lo", "observed_hi"]
+    return pd.DataFrame(rows, columns=cols), float(ece)
+
+
+def simulate_operator(
+    association: Any,
+    tracks: pd.DataFrame,
+    /,
+    *,
+    checkpoints: Iterable[int] = (0, 25, 50, 100, 200),
+    batch: int = 25,
+) -> pd.DataFrame:
+    """An operator who answers truthfully in review order, and what the association is worth
+    after each number of decisions in ``checkpoints``.
+
+    The operator takes up to ``batch`` pairs from the head of the current review queue, answers
+    each from the ground truth (``same`` for a true duplicate-track pair, ``different``
+    otherwise), and the association is recomputed under all the decisions so far
+    (``Association.with_decisions``) before the next batch, as a review station does.
+
+    Returns one row per checkpoint: ``decisions`` (made so far), ``precision``, ``recall`` and
+    ``f1`` of the ``match`` pairs, ``borderline`` (pairs still to review), ``false_merges``
+    and ``true_non_match`` (true pairs classed ``non-match``).
+    """
+    truth = true_pairs(tracks)
+    marks = sorted({int(c) for c in checkpoints})
+    if not marks or marks[0] < 0:
+        raise GeofeasError("checkpoints: expected non-negative decision counts")
+    if batch < 1:
+        raise GeofeasError(f"batch: must be >= 1, got {batch}")
+    rows = []
+    decided: list[dict[str, Any]] = []
+    seen: set[tuple[str, str]] = set()
+    current = association
+
+    def record() -> None:
+        pairs = current.pairs
+        y = labels(pairs, tracks)
+        cls = pairs["class"].to_numpy()
+        match = cls == "match"
+        tp = int((match & y).sum())
+        prec, rec, f1 = prf(tp, int(match.sum()), len(truth))
+        rows.append(
+            dict(
+                decisions=len(decided),
+                precision=prec,
+                recall=rec,
+                f1=f1,
+                borderline=int((cls == "borderline").sum()),
+                false_merges=int((match & ~y).sum()),
+                true_non_match=int(((cls == "non-match") & y).sum()),
+            )
+        )
+
+    for mark in marks:
+        while len(decided) < mark:
+            queue = current.review_queue
+            take = []
+            for a, b in zip(queue["track_a"], queue["track_b"], strict=True):
+                k = _key(a, b)
+                if k in seen:
+                    continue
+                take.append((a, b, k))
+                if len(take) >= min(batch, mark - len(decided)):
+                    break
+            if not take:
+                break
+            for a, b, k in take:
+                seen.add(k)
+                decided.append(
+                    dict(
+                        track_a=a,
+                        track_b=b,
+                        decision="same" if k in truth else "different",
+                        operator="simulated",
+                    )
+                )
+            current = association.with_decisions(pd.DataFrame(decided))
+        if len(decided) < mark and rows and rows[-1]["decisions"] == len(decided):
+            continue  # the queue ran dry: nothing new to record
+        record()
+    return pd.DataFrame(rows)

@@ -1049,8 +1049,15 @@ pub fn posterior(
         settles: vec![(0, 0); pairs.len()],
     };
     for (c, (comp, (m, (g, s)))) in comps.iter().zip(results).enumerate() {
-        for (i, &(k, _, _)) in comp.pairs.iter().enumerate() {
-            out.p_same[k] = m.p_pair[i].clamp(0.0, 1.0);
+        for (i, &(k, a, b)) in comp.pairs.iter().enumerate() {
+            // decided pairs are certain, not merely close to it
+            out.p_same[k] = if comp.block_of[a as usize] == comp.block_of[b as usize] {
+                1.0
+            } else if comp.different(a, b) {
+                0.0
+            } else {
+                m.p_pair[i].clamp(0.0, 1.0)
+            };
             out.std_error[k] = m.se_pair[i];
             out.component[k] = c as u32;
             out.gain[k] = g[i];
