@@ -14,7 +14,7 @@ import argparse
 import time
 from typing import Any
 
-from .association import COMBINE_RULES, DEFAULT_UPPER, SCORES, associate, read_reports, write_table
+from .association import COMBINE_RULES, DEFAULT_UPPER, SCORES, associate, read_reports, write_tables
 
 
 def run(args: argparse.Namespace) -> int:
@@ -44,9 +44,11 @@ def run(args: argparse.Namespace) -> int:
         margin=args.margin,
         **options,
     )
-    result.to_file(args.out)
+    # one transaction: neither file is replaced unless both were written
+    tables = [(result.pairs, args.out)]
     if args.objects:
-        write_table(result.objects, args.objects)
+        tables.append((result.objects, args.objects))
+    write_tables(tables)
     elapsed = time.perf_counter() - start
     counts = result.pairs["class"].value_counts()
     if not args.quiet:

@@ -263,11 +263,34 @@ def gaussian_product(a: ArrayLike, b: ArrayLike, /) -> Any:
 
 
 def _memory_limit() -> int:
-    """Half the physical memory: the largest ``cdist`` output accepted."""
+    """The largest ``cdist`` output accepted: half of the memory this process may use, the
+    smallest of the physical memory, the cgroup limit (v2 ``memory.max``, v1
+    ``memory.limit_in_bytes``) and the address-space limit ``RLIMIT_AS``."""
+    limits = []
     try:
-        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE") // 2
+        limits.append(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
     except (ValueError, OSError, AttributeError):
-        return 8 << 30
+        limits.append(16 << 30)
+    for path in (
+        "/sys/fs/cgroup/memory.max",
+        "/sys/fs/cgroup/memory/memory.limit_in_bytes",
+    ):
+        try:
+            with open(path, encoding="ascii") as fh:
+                text = fh.read().strip()
+        except OSError:
+            continue
+        if text.isdigit():
+            limits.append(int(text))
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+        if soft != resource.RLIM_INFINITY and soft > 0:
+            limits.append(soft)
+    except (ImportError, OSError, ValueError):  # pragma: no cover - not POSIX
+        pass
+    return min(limits) // 2
 
 
 def cdist(
@@ -287,7 +310,8 @@ def cdist(
     b : array_like, shape (m, 5) or (5,)
     score : {"glr", "overlap", "monte_carlo", "bhattacharyya", "hellinger", "gaussian_product"}
     max_bytes : int, optional
-        Refuse outputs larger than this (default: half the physical memory), before allocating.
+        Refuse outputs larger than this, before allocating (default, and upper bound: half
+        of the memory the process may use: physical memory, cgroup limit, ``RLIMIT_AS``).
     **options
         The options of the chosen score (``threshold``; ``method``, ``vertices``; ``samples``,
         ``seed``, ``sampler``).
@@ -299,7 +323,10 @@ def cdist(
     """
     ea, _ = as_ellipses(a, "a")
     eb, _ = as_ellipses(b, "b")
-    limit = _memory_limit() if max_bytes is None else _count(max_bytes, "max_bytes", 0)
+    # a caller's limit can lower the guard, never raise it past the memory this process has
+    limit = _memory_limit()
+    if max_bytes is not None:
+        limit = min(limit, _count(max_bytes, "max_bytes", 0))
     result: NDArray[np.float64] = _core.score_cdist(
         ea, eb, score, max_bytes=limit, **_options(score, options)
     )
