@@ -91,7 +91,8 @@ def domain_pairs(rng: np.random.Generator, n: int) -> tuple[np.ndarray, np.ndarr
 def raw_rows(rng: np.random.Generator, n: int) -> np.ndarray:
     """Rows of adversarial doubles: specials, random magnitudes, random bit patterns."""
     out = SPECIAL[rng.integers(0, len(SPECIAL), (n, 5))]
-    mag = rng.standard_normal((n, 5)) * 10.0 ** rng.uniform(-320, 308, (n, 5))
+    with np.errstate(over="ignore"):
+        mag = rng.standard_normal((n, 5)) * 10.0 ** rng.uniform(-320, 308, (n, 5))
     pick = rng.random((n, 5)) < 0.5
     out[pick] = mag[pick]
     bits = rng.random((n, 5)) < 0.1
@@ -169,9 +170,16 @@ def check_gaussian(rng, calls, batch=1000):
         mean, cov = geofeas.to_gaussian(a)
         if not (np.all(np.isfinite(mean)) and np.all(np.isfinite(cov))):
             findings.append("to_gaussian: non-finite output")
-        back = geofeas.from_gaussian(mean, cov)
-        if not np.all(np.isfinite(back)):
-            findings.append("from_gaussian: non-finite output")
+        # aspect 1e8 means covariance eigenvalues 1e16 apart: the stored matrix may be
+        # singular to rounding, which from_gaussian refuses (a refusal, not a finding)
+        for k in range(0, batch, 100):
+            try:
+                back = geofeas.from_gaussian(mean[k : k + 100], cov[k : k + 100])
+            except GeofeasError:
+                errors += 1
+                continue
+            if not np.all(np.isfinite(back)):
+                findings.append("from_gaussian: non-finite output")
         done += batch
     for _ in range(calls // 2):
         row = raw_rows(rng, 1)[0]

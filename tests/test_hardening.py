@@ -305,3 +305,15 @@ def test_associate_outputs_are_one_transaction(tmp_path):
     assert main(["associate", str(path), "--out", str(out), "--objects", str(objects), "-q"]) == 0
     assert out.read_text().startswith("track_a")
     assert objects.read_text().startswith("track_id")
+
+
+def test_options_that_do_not_apply_are_refused(tmp_path, capsys):
+    path = tmp_path / "reports.csv"
+    path.write_text(REPORTS)
+    with pytest.raises(GeofeasError, match="do not apply") as info:
+        geofeas.associate(geofeas.read_reports(path), score="overlap", threshold=True)
+    assert info.value.argument == "threshold"
+    out = str(tmp_path / "o.csv")
+    assert main(["associate", str(path), "--out", out, "--score", "overlap", "--threshold"]) == 2
+    assert "do not apply" in capsys.readouterr().err
+    assert main(["associate", str(path), "--out", out, "--score", "glr", "--vertices", "64"]) == 2

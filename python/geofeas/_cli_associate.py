@@ -21,7 +21,8 @@ def run(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     reports = read_reports(args.reports, coords=args.coords)
     options: dict[str, Any] = {}
-    if args.score == "overlap":
+    if args.vertices is not None:
+        # only when asked: the overlap is exact by default, polygons on request
         options["vertices"] = args.vertices
     if args.score == "monte_carlo":
         options["samples"] = args.samples
@@ -125,7 +126,12 @@ def add_parser(sub: Any) -> None:
         help="log-likelihood margin a match needs over every exclusive alternative (default: "
         "no such check)",
     )
-    p.add_argument("--vertices", type=int, default=256, help="overlap polygon resolution")
+    p.add_argument(
+        "--vertices",
+        type=int,
+        default=None,
+        help="overlap by polygons of this many vertices (default: the exact overlap)",
+    )
     p.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per instant")
     p.add_argument("--seed", type=int, default=0, help="Monte-Carlo seed")
     p.add_argument("--quiet", "-q", action="store_true", help="no summary on standard output")

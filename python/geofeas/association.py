@@ -592,6 +592,16 @@ def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, 
         raise GeofeasError(f"score: unknown score {score!r} (expected one of {SCORES})")
     if opts.get("seed") is None:
         opts.pop("seed", None)
+    from .scores import _OPTIONS
+
+    misplaced = sorted(set(opts) - _OPTIONS[score])
+    if misplaced:
+        err = GeofeasError(
+            f"option(s) {misplaced} do not apply to score {score!r}; "
+            f"it takes {sorted(_OPTIONS[score])}"
+        )
+        err.argument = misplaced[0]
+        raise err
     if score == "overlap" and "vertices" in opts:
         # a resolution alone asks for the polygon method, as in geofeas.overlap
         opts.setdefault("method", "polygon")

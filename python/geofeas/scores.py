@@ -6,6 +6,14 @@ ellipse ``(5,)`` or an array ``(n, 5)`` on either side: two arrays are scored el
 ellipse broadcasts against an array), and two single ellipses give a ``float``. :func:`cdist`
 scores all pairs between two sets. The work runs in Rust with the GIL released and can be
 interrupted with Ctrl-C.
+
+**Input domain** (every function here): every field finite, ``|x0|, |y0| <= 1e50``, semi-axes in
+``[1e-50, 1e50]``, aspect ratio ``max(rx, ry) / min(rx, ry) <= 1e8``. Inside it every score is
+computed to full accuracy (the exact overlap to ``1e-11``) without overflow or underflow;
+outside it a :class:`GeofeasError` names the argument (``a``, ``b``, ``e``), row and field
+(also as its ``argument``, ``row`` and ``field`` attributes). Options: ``vertices`` in
+``[8, 2**20]``, ``samples`` in ``[1, 10**7]``; an option the chosen score does not take is
+refused.
 """
 
 from __future__ import annotations

@@ -189,6 +189,10 @@ static GRID: std::sync::LazyLock<[[f64; 4]; 48]> = std::sync::LazyLock::new(|| {
 /// assert_eq!(relation(&big, &Ellipse::circle(30.0, 0.0, 1.0)), Relation::Disjoint);
 /// ```
 pub fn relation(a: &Ellipse, b: &Ellipse) -> Relation {
+    if a == b {
+        // identical: decided exactly, not through the rounding of the boundary function
+        return Relation::AInsideB;
+    }
     let fa = BoundaryFn::new(a, b);
     // Fast path: boundary points of `a` clearly inside and clearly outside `b` -> crossing.
     let (lo, hi, err) = fa.sampled();
