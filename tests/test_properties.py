@@ -17,9 +17,7 @@ from hypothesis import strategies as st
 import geofeas
 from geofeas import GeofeasError
 
-SETTINGS = settings(
-    max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow]
-)
+SETTINGS = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 SCORES = {
     "glr": geofeas.glr,
@@ -34,8 +32,11 @@ SCORES = {
 SYMMETRIC = ("glr", "overlap", "bhattacharyya", "hellinger", "gaussian_product")
 
 
+SCALE_EXPONENTS = st.integers(-40, 40)
+
+
 @st.composite
-def ellipses(draw, scale_exp=st.integers(-40, 40)):
+def ellipses(draw, scale_exp=SCALE_EXPONENTS):
     """A valid ellipse inside the domain: semi-axes 10^(-40..40), aspect up to 1e8."""
     k = draw(scale_exp)
     scale = 10.0**k
