@@ -97,13 +97,17 @@ def test_ids_keep_their_type_and_order():
     # string order: "10" < "9" < "x"
     assert list(res.pairs.track_a) == ["10", "10", "9"]
     assert list(res.pairs.track_b) == ["9", "x", "x"]
+    # ids are names: integers of an in-memory table become their decimal text, in text order
     res = geofeas.associate(pd.DataFrame(dict(base, track_id=[9, 10, 11])))
     assert list(zip(res.pairs.track_a, res.pairs.track_b, strict=True)) == [
-        (9, 10),
-        (9, 11),
-        (10, 11),
+        ("10", "11"),
+        ("10", "9"),
+        ("11", "9"),
     ]
     assert (res.pairs.track_a < res.pairs.track_b).all()
+    # and never collapse: "007" and "7" are two tracks
+    res = geofeas.associate(pd.DataFrame(dict(base, track_id=["007", "7", "x"])))
+    assert sorted(set(res.pairs.track_a) | set(res.pairs.track_b)) == ["007", "7", "x"]
 
 
 CSV_HEADER = "track_id,source,time,x,y,rx,ry,phi\n"

@@ -20,7 +20,7 @@ import argparse
 import time
 from typing import Any
 
-from .association import COMBINE_RULES, SCORES, associate, read_reports, write_table
+from .association import COMBINE_RULES, SCORES, associate, read_reports, write_tables
 
 #: The columns of the pairs file.
 PAIR_COLUMNS = ("track_a", "track_b", "score", "instants", "class", "p_same", "review_rank")
@@ -30,7 +30,8 @@ def run(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     reports = read_reports(args.reports, coords=args.coords)
     options: dict[str, Any] = {}
-    if args.score == "overlap":
+    if args.vertices is not None:
+        # only when asked: the overlap is exact by default, polygons on request
         options["vertices"] = args.vertices
     if args.score == "monte_carlo":
         options["samples"] = args.samples
@@ -56,9 +57,11 @@ def run(args: argparse.Namespace) -> int:
         **options,
     )
     pairs = result.pairs if args.details else result.pairs[list(PAIR_COLUMNS)]
-    write_table(pairs, args.out)
+    # one transaction: neither file is replaced unless both were written
+    tables = [(pairs, args.out)]
     if args.objects:
-        write_table(result.objects, args.objects)
+        tables.append((result.objects, args.objects))
+    write_tables(tables)
     elapsed = time.perf_counter() - start
     counts = result.pairs["class"].value_counts()
     if not args.quiet:
@@ -150,7 +153,12 @@ def add_parser(sub: Any) -> None:
         type=_inflation,
         help="covariance inflation: 'auto' (default) or a number",
     )
-    p.add_argument("--vertices", type=int, default=256, help="overlap polygon resolution")
+    p.add_argument(
+        "--vertices",
+        type=int,
+        default=None,
+        help="overlap by polygons of this many vertices (default: the exact overlap)",
+    )
     p.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per instant")
     p.add_argument("--seed", type=int, default=0, help="Monte-Carlo seed")
     p.add_argument("--quiet", "-q", action="store_true", help="no summary on standard output")

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from ._atomic import atomic_open, save_figure
 from ._core import GeofeasError
 from .scores import gaussian_product, glr, intersection_area, monte_carlo, overlap
 
@@ -321,7 +322,7 @@ def plot(rows: list, out: Path) -> list[Path]:
 
 def _save(fig: Any, path: Path, plt: Any) -> Path:
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
     return path
 
@@ -339,13 +340,13 @@ def run(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     start = time.perf_counter()
     rows, summary = compute(n_trials, n_pairs, n_timing, args.seed, args.quick)
-    with open(out / "figures.csv", "w", newline="", encoding="utf-8") as fh:
+    with atomic_open(out / "figures.csv", "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
         w.writerow(["figure", "series", "x", "y", "spread"])
         for fig, series, x, y, spread in rows:
             w.writerow([fig, series, repr(float(x)), repr(float(y)), repr(float(spread))])
     summary["seconds"] = time.perf_counter() - start
-    with open(out / "summary.json", "w", encoding="utf-8") as fh:
+    with atomic_open(out / "summary.json", "w", encoding="utf-8") as fh:
         json.dump(summary, fh, indent=2)
     paths = [] if args.csv_only else plot(rows, out)
     print(

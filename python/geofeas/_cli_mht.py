@@ -17,6 +17,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from ._atomic import atomic_open, save_figure, write_text
 from .tracking import PAPER_TABLE_1, PAPER_TABLE_2, STUDY_COLUMNS, plot_run, simulate_run, study
 
 
@@ -27,7 +28,7 @@ def _fmt(v: Any) -> str:
 
 
 def write_tables(rows: list[dict[str, Any]], path: Path) -> None:
-    with open(path, "w", newline="", encoding="utf-8") as fh:
+    with atomic_open(path, "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
         w.writerow(STUDY_COLUMNS)
         for r in rows:
@@ -113,7 +114,7 @@ def plot_trends(rows: list[dict[str, Any]], path: Path) -> None:
                 ax.set_yscale("log")
     axes[0, 0].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)
 
 
@@ -142,7 +143,7 @@ def run(args: argparse.Namespace) -> int:
         f"new-target rate {args.new_target_rate:g}, detection probability "
         f"{args.detection_probability:g}"
     )
-    (out / "comparison.md").write_text(comparison_markdown(rows, args.runs, args.seed, note))
+    write_text(out / "comparison.md", comparison_markdown(rows, args.runs, args.seed, note))
     print(
         f"study: {len(rows)} columns x {args.runs} runs in {elapsed:.1f} s -> {out / 'tables.csv'}",
         file=sys.stderr,

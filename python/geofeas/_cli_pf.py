@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from ._atomic import atomic_open, save_figure, write_text
 from .tracking import PAPER_IC, PAPER_PCA, pf_simulate_run, pf_study, plot_pf_run
 
 #: SNRs of the error table.
@@ -42,12 +43,12 @@ def write_csvs(res: dict[str, Any], out: Path) -> None:
     n = len(res["method"])
     n_ic = res["_n_ic"]
     snr_rows = list(range(n - n_ic))
-    with open(out / "pca_vs_snr.csv", "w", newline="", encoding="utf-8") as fh:
+    with atomic_open(out / "pca_vs_snr.csv", "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
         w.writerow(["method", "snr_db", "pca"])
         for k in snr_rows:
             w.writerow([int(res["method"][k]), f"{res['snr_db'][k]:g}", _fmt(res["pca"][k])])
-    with open(out / "errors.csv", "w", newline="", encoding="utf-8") as fh:
+    with atomic_open(out / "errors.csv", "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
         w.writerow(["method", "snr_db", "filter", "rmse_px"])
         for k in snr_rows:
@@ -55,7 +56,7 @@ def write_csvs(res: dict[str, Any], out: Path) -> None:
                 for i, v in enumerate(res["filter_rmse_px"][k]):
                     w.writerow([int(res["method"][k]), f"{res['snr_db'][k]:g}", i + 1, _fmt(v)])
     cols = ["method", "snr_db", "xmax", "vmax", "pca", "hit", "rmse_px", "coverage", "held"]
-    with open(out / "summary.csv", "w", newline="", encoding="utf-8") as fh:
+    with atomic_open(out / "summary.csv", "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
         w.writerow(cols)
         for k in range(n):
@@ -64,7 +65,7 @@ def write_csvs(res: dict[str, Any], out: Path) -> None:
                 + [f"{res[c][k]:g}" for c in ("snr_db", "xmax", "vmax")]
                 + [_fmt(float(res[c][k])) for c in cols[4:]]
             )
-    with open(out / "ic_sensitivity.csv", "w", newline="", encoding="utf-8") as fh:
+    with atomic_open(out / "ic_sensitivity.csv", "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
         w.writerow(["xmax", "vmax", "rmse_px", "held", "pca"])
         for k in range(n - n_ic, n):
@@ -148,7 +149,7 @@ def plot_study(res: dict[str, Any], out: Path) -> None:
     ax.legend()
     ax.set_title("Probability of correct association vs SNR (Fig. 19)")
     fig.tight_layout()
-    fig.savefig(out / "fig19_pca_vs_snr.png", dpi=110)
+    save_figure(fig, out / "fig19_pca_vs_snr.png", dpi=110)
     plt.close(fig)
 
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -161,7 +162,7 @@ def plot_study(res: dict[str, Any], out: Path) -> None:
     ax.legend()
     ax.set_title("Position RMSE over 10 s and four targets")
     fig.tight_layout()
-    fig.savefig(out / "rmse_vs_snr.png", dpi=110)
+    save_figure(fig, out / "rmse_vs_snr.png", dpi=110)
     plt.close(fig)
 
     xs = np.asarray(res["xmax"][m:])
@@ -180,7 +181,7 @@ def plot_study(res: dict[str, Any], out: Path) -> None:
     ax1.set_title("Method 2 initial-condition sensitivity (Fig. 20)")
     fig.legend(loc="upper left", fontsize=8)
     fig.tight_layout()
-    fig.savefig(out / "fig20_ic_sensitivity.png", dpi=110)
+    save_figure(fig, out / "fig20_ic_sensitivity.png", dpi=110)
     plt.close(fig)
 
 
@@ -199,7 +200,7 @@ def plot_frames(seed: int, out: Path) -> None:
         ax.set_title(f"t = {k * 0.1:.0f} s" if k % 10 == 0 else f"t = {k * 0.1:.1f} s")
     fig.suptitle("Frames at 15 dB with the true positions (Fig. 2)")
     fig.tight_layout()
-    fig.savefig(out / "fig02_frames.png", dpi=90)
+    save_figure(fig, out / "fig02_frames.png", dpi=90)
     plt.close(fig)
 
 
@@ -223,7 +224,7 @@ def run(args: argparse.Namespace) -> int:
         f"truth '{args.truth}', association '{args.association}', peak smoothing "
         f"{args.smoothing:g}, initial-condition rows at {args.ic_snr:g} dB"
     )
-    (out / "comparison.md").write_text(comparison_markdown(res, note))
+    write_text(out / "comparison.md", comparison_markdown(res, note))
     print(
         f"pf-study: {len(res['method'])} rows x {args.runs} runs in {elapsed:.1f} s -> {out}",
         file=sys.stderr,

@@ -8,6 +8,7 @@ per requested score.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import csv
 import sys
 import time
@@ -17,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from ._atomic import atomic_open
 from ._core import GeofeasError
 from .scores import (
     DEFAULT_VERTICES,
@@ -132,15 +134,16 @@ def run(args: argparse.Namespace) -> int:
         data, scores, args.vertices, args.samples, args.seed, args.method, args.sampler
     )
     elapsed = time.perf_counter() - start
-    out_fh: Any = sys.stdout if args.out == "-" else open(args.out, "w", newline="")
-    try:
+    with contextlib.ExitStack() as stack:
+        out_fh: Any = (
+            sys.stdout
+            if args.out == "-"
+            else stack.enter_context(atomic_open(args.out, "w", newline=""))
+        )
         writer = csv.writer(out_fh)
         writer.writerow(header + scores)
         for k, row in enumerate(rows):
             writer.writerow(row + [repr(float(result[s][k])) for s in scores])
-    finally:
-        if out_fh is not sys.stdout:
-            out_fh.close()
     if args.out != "-":
         print(f"scored {len(rows)} pairs from {src} in {elapsed:.3f} s -> {args.out}")
         for s in scores:

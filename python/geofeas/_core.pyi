@@ -40,6 +40,10 @@ __version__: str
 class GeofeasError(ValueError):
     """Invalid input or options for a geofeas computation (a ValueError)."""
 
+    argument: str | None
+    row: int | None
+    field: str | None
+
 def score_pairs(
     a: NDArray[np.float64],
     b: NDArray[np.float64],

@@ -84,10 +84,14 @@ def objects_table(association: Association, /) -> Any:
 
 
 def write_parquet(association: Association, directory: str | os.PathLike[str], /) -> None:
-    """Write ``pairs.parquet`` and ``objects.parquet`` into ``directory`` (created if absent)."""
+    """Write ``pairs.parquet`` and ``objects.parquet`` into ``directory`` (created if absent),
+    as one transaction: neither file is replaced unless both were written."""
     import pyarrow.parquet as pq  # type: ignore[import-untyped,unused-ignore]
+
+    from ._atomic import atomic_paths
 
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)
-    pq.write_table(pairs_table(association), out / "pairs.parquet")
-    pq.write_table(objects_table(association), out / "objects.parquet")
+    with atomic_paths(out / "pairs.parquet", out / "objects.parquet") as (pairs, objects):
+        pq.write_table(pairs_table(association), pairs)
+        pq.write_table(objects_table(association), objects)

@@ -10,7 +10,7 @@ See ``docs/association.md`` for the model.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _core
+from ._atomic import atomic_path, atomic_paths
 from ._core import GeofeasError
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -145,7 +146,14 @@ def _read_table(source: Any) -> tuple[pd.DataFrame, _Where]:
         suffix = path.suffix.lower()
         try:
             if suffix == ".csv":
-                frame = pd.read_csv(path, skip_blank_lines=False, skipinitialspace=True)
+                _check_csv_header(path)
+                # ids are names: read as text, so "007" stays "007"
+                frame = pd.read_csv(
+                    path,
+                    skip_blank_lines=False,
+                    skipinitialspace=True,
+                    dtype={"track_id": str, "source": str},
+                )
                 return frame, _Where(str(path), lines=True)
             if suffix in (".parquet", ".pq"):
                 return pd.read_parquet(path), _Where(str(path), lines=False)
@@ -169,40 +177,75 @@ def _read_table(source: Any) -> tuple[pd.DataFrame, _Where]:
     )
 
 
+def _check_csv_header(path: Path) -> None:
+    """Refuses a CSV file whose header names a column twice (pandas would rename one)."""
+    import csv
+
+    with open(path, newline="", encoding="utf-8") as fh:
+        header = next(csv.reader(fh), None)
+    if not header:
+        raise GeofeasError(f"{path}: empty file (expected a header line)")
+    names = [h.strip() for h in header]
+    seen: set[str] = set()
+    for name in names:
+        if name in seen:
+            err = GeofeasError(f"{path}: line 1: column {name!r} appears more than once")
+            err.argument, err.row, err.field = "reports", None, name
+            raise err
+        seen.add(name)
+
+
+def _arg_error(argument: str, row: int | None, message: str) -> GeofeasError:
+    """A ``GeofeasError`` about ``argument`` (element ``row``), with the attributes set."""
+    err = GeofeasError(f"argument '{argument}': {message}")
+    err.argument, err.row = argument, row
+    return err
+
+
 def _first(mask: NDArray[np.bool_]) -> int:
     return int(np.flatnonzero(mask)[0])
 
 
 def _ids(frame: pd.DataFrame, column: str, where: _Where) -> tuple[NDArray[Any], NDArray[Any]]:
-    """Sorted distinct ids of ``column`` and the index of each row's id. Strings sort as
-    strings, numbers numerically; a column mixing both is refused."""
+    """Sorted distinct ids of ``column`` (as strings) and the index of each row's id.
+
+    Ids are names, kept as given: a file's ``007`` and ``7`` are two tracks. Integer columns of
+    an in-memory table become their decimal text; floats, booleans, dates and mixed columns are
+    refused (a float id such as ``7.0`` has no single spelling)."""
     pd = _pandas()
     col = frame[column]
     missing = col.isna().to_numpy()
     if missing.any():
-        raise GeofeasError(f"{where(_first(missing))}: column {column}: missing value")
+        raise _field_error(where, _first(missing), column, "missing value")
     kind = pd.api.types.infer_dtype(col, skipna=False)
-    if kind in ("integer", "floating", "mixed-integer-float", "boolean"):
-        values = col.to_numpy()
-        if values.dtype.kind == "f":
-            bad = ~np.isfinite(values)
-            if bad.any():
-                raise GeofeasError(f"{where(_first(bad))}: column {column}: {values[bad][0]}")
+    if len(col) == 0:
+        return np.zeros(0, dtype=object), np.zeros(0, dtype=np.uint32)
+    if kind == "integer":
+        values = np.asarray([str(int(v)) for v in col.to_numpy()], dtype=object)
     elif kind == "string":
-        values = col.astype(str).to_numpy(dtype=object)
+        values = col.to_numpy(dtype=object)
     else:
         types = col.map(type).to_numpy()
-        first = types[0]
-        row = _first(types != first) if (types != first).any() else 0
-        raise GeofeasError(
-            f"{where(row)}: column {column}: ids must be all strings or all numbers "
-            f"(found {kind} values, e.g. {col.iloc[row]!r})"
+        ok = np.asarray([issubclass(t, str) for t in types])
+        row = _first(~ok) if (~ok).any() else 0
+        raise _field_error(
+            where,
+            row,
+            column,
+            f"ids are names: strings (or integers in an in-memory table); found {kind} "
+            f"values, e.g. {col.iloc[row]!r}",
         )
-    try:
-        uniq, inverse = np.unique(values, return_inverse=True)
-    except TypeError as exc:  # pragma: no cover - guarded above
-        raise GeofeasError(f"column {column}: ids cannot be ordered ({exc})") from None
-    return uniq, inverse.reshape(-1).astype(np.uint32)
+    uniq, inverse = np.unique(values.astype(str), return_inverse=True)
+    return uniq.astype(object), inverse.reshape(-1).astype(np.uint32)
+
+
+def _field_error(where: _Where, row: int, column: str, message: str) -> GeofeasError:
+    """A ``GeofeasError`` naming the row (file line) and column, with the attributes set."""
+    err = GeofeasError(f"{where(row)}: column {column}: {message}")
+    err.argument = "reports"
+    err.row = row
+    err.field = column
+    return err
 
 
 def _times(frame: pd.DataFrame, where: _Where) -> NDArray[np.float64]:
@@ -210,14 +253,14 @@ def _times(frame: pd.DataFrame, where: _Where) -> NDArray[np.float64]:
     col = frame["time"]
     missing = col.isna().to_numpy()
     if missing.any():
-        raise GeofeasError(f"{where(_first(missing))}: column time: missing value")
+        raise _field_error(where, _first(missing), "time", "missing value")
     if pd.api.types.is_datetime64_any_dtype(col):
         dt = pd.to_datetime(col, utc=True)
     elif pd.api.types.is_numeric_dtype(col) and not pd.api.types.is_bool_dtype(col):
         t = col.to_numpy(dtype=np.float64)
         bad = ~np.isfinite(t)
         if bad.any():
-            raise GeofeasError(f"{where(_first(bad))}: column time: {t[bad][0]} is not finite")
+            raise _field_error(where, _first(bad), "time", f"{t[bad][0]} is not finite")
         return np.ascontiguousarray(t)
     else:
         text = col.astype(str)
@@ -254,32 +297,37 @@ def _numbers(frame: pd.DataFrame, columns: tuple[str, ...], where: _Where) -> ND
         col = frame[name]
         missing = col.isna().to_numpy()
         if missing.any():
-            raise GeofeasError(f"{where(_first(missing))}: column {name}: missing value")
+            raise _field_error(where, _first(missing), name, "missing value")
         if pd.api.types.is_bool_dtype(col):
-            raise GeofeasError(f"{where(0)}: column {name}: booleans are not numbers")
+            raise _field_error(where, 0, name, "booleans are not numbers")
         values = pd.to_numeric(col, errors="coerce")
         bad = values.isna().to_numpy()
         if bad.any():
             row = _first(bad)
-            raise GeofeasError(f"{where(row)}: column {name}: {col.iloc[row]!r} is not a number")
+            raise _field_error(where, row, name, f"{col.iloc[row]!r} is not a number")
         v = values.to_numpy(dtype=np.float64)
         bad = ~np.isfinite(v)
         if bad.any():
-            raise GeofeasError(f"{where(_first(bad))}: column {name}: {v[bad][0]} is not finite")
+            raise _field_error(where, _first(bad), name, f"{v[bad][0]} is not finite")
         out[:, k] = v
     for k in (2, 3):
         bad = out[:, k] <= 0
         if bad.any():
             row = _first(bad)
-            raise GeofeasError(
-                f"{where(row)}: column {columns[k]}: {out[row, k]} must be > 0 "
-                "(2-sigma semi-axis in metres)"
+            raise _field_error(
+                where, row, columns[k], f"{out[row, k]} must be > 0 (2-sigma semi-axis in metres)"
             )
     if columns == GEOGRAPHIC:
         bad = np.abs(out[:, 0]) > 90
         if bad.any():
             row = _first(bad)
-            raise GeofeasError(f"{where(row)}: column lat: {out[row, 0]} is outside [-90, 90]")
+            raise _field_error(where, row, "lat", f"{out[row, 0]} is outside [-90, 90]")
+        bad = np.abs(out[:, 1]) > 180
+        if bad.any():
+            row = _first(bad)
+            raise _field_error(
+                where, row, "lon", f"{out[row, 1]} is outside [-180, 180] (not wrapped)"
+            )
     return out
 
 
@@ -314,6 +362,9 @@ def read_reports(source: Any, /, *, coords: str = "auto") -> Reports:
         return source
     frame, where = _read_table(source)
     frame.columns = [str(c).strip() for c in frame.columns]
+    dup = frame.columns[frame.columns.duplicated()]
+    if len(dup):
+        raise GeofeasError(f"reports: column {dup[0]!r} appears more than once")
     missing = [c for c in REQUIRED if c not in frame.columns]
     if missing:
         raise GeofeasError(f"reports: missing column(s) {', '.join(missing)}")
@@ -578,18 +629,38 @@ class Association:
 
 
 def write_table(frame: pd.DataFrame, path: str | os.PathLike[str]) -> None:
-    """Write a table to ``.csv`` or ``.parquet`` by extension."""
+    """Write a table to ``.csv`` or ``.parquet`` by extension, atomically (a temporary file in
+    the destination folder renamed over it: a failed write leaves any previous file intact)."""
+    with atomic_path(_table_path(path)) as tmp:
+        _write_table_to(frame, tmp)
+
+
+def write_tables(tables: Sequence[tuple[pd.DataFrame, str | os.PathLike[str]]]) -> None:
+    """Write several tables as one transaction: no destination is replaced unless all of them
+    were written."""
+    dests = [_table_path(p) for _, p in tables]
+    with atomic_paths(*dests) as temps:
+        for (frame, _), tmp in zip(tables, temps, strict=True):
+            _write_table_to(frame, tmp)
+
+
+def _table_path(path: str | os.PathLike[str]) -> Path:
     p = Path(path)
-    suffix = p.suffix.lower()
-    if suffix == ".csv":
+    if p.suffix.lower() not in (".csv", ".parquet", ".pq"):
+        raise GeofeasError(
+            f"{p}: unknown file type {p.suffix.lower()!r} (expected .csv or .parquet)"
+        )
+    return p
+
+
+def _write_table_to(frame: pd.DataFrame, p: Path) -> None:
+    if p.suffix.lower() == ".csv":
         frame.to_csv(p, index=False)
-    elif suffix in (".parquet", ".pq"):
+    else:
         try:
             frame.to_parquet(p, index=False)
         except ImportError as exc:  # pragma: no cover
             raise GeofeasError(f"{p}: writing Parquet needs pyarrow ({exc})") from None
-    else:
-        raise GeofeasError(f"{p}: unknown file type {suffix!r} (expected .csv or .parquet)")
 
 
 def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, Any]]:
@@ -604,6 +675,16 @@ def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, 
         raise GeofeasError(f"score: unknown score {score!r} (expected one of {SCORES})")
     if opts.get("seed") is None:
         opts.pop("seed", None)
+    from .scores import _OPTIONS
+
+    misplaced = sorted(set(opts) - _OPTIONS[score])
+    if misplaced:
+        err = GeofeasError(
+            f"option(s) {misplaced} do not apply to score {score!r}; "
+            f"it takes {sorted(_OPTIONS[score])}"
+        )
+        err.argument = misplaced[0]
+        raise err
     if score == "overlap" and "vertices" in opts:
         # a resolution alone asks for the polygon method, as in geofeas.overlap
         opts.setdefault("method", "polygon")
@@ -824,16 +905,51 @@ def combine_instants(
 ) -> float:
     """Combine the per-instant scores ``g`` of one track pair by ``rule`` (as
     :func:`associate` does). ``m`` are the squared Mahalanobis distances (default
-    ``-2 ln g``, exact for the GLR), ``time`` the instants' times (default ``0, 1, ...``)."""
-    gg = np.ascontiguousarray(np.asarray(g, dtype=np.float64).reshape(-1))
+    ``-2 ln g``, exact for the GLR), ``time`` the instants' times (default ``0, 1, ...``).
+
+    Domain: at least one instant; ``g`` in ``[0, 1]``; ``m`` in ``[0, inf]`` (``inf`` where
+    ``g`` is 0); ``time`` finite and strictly increasing; ``correlation_time`` finite and
+    ``>= 0``. Anything else raises ``GeofeasError`` naming the argument and the element."""
+    from ._arrays import as_float_array
+
+    gg = as_float_array(g, "g").reshape(-1)
+    if gg.size == 0:
+        raise _arg_error("g", None, "no instants to combine (an empty array)")
+    bad = ~((gg >= 0.0) & (gg <= 1.0))
+    if bad.any():
+        i = _first(bad)
+        raise _arg_error("g", i, f"element {i} = {gg[i]} is outside [0, 1]")
     if m is None:
         with np.errstate(divide="ignore"):
             mm = -2.0 * np.log(gg)
     else:
-        mm = np.asarray(m, dtype=np.float64).reshape(-1)
-    tt = np.arange(len(gg), dtype=np.float64) if time is None else np.asarray(time, np.float64)
+        mm = as_float_array(m, "m").reshape(-1)
+        if mm.shape != gg.shape:
+            raise _arg_error("m", None, f"{mm.size} values for {gg.size} instants of g")
+        bad = ~(mm >= 0.0)
+        if bad.any():
+            i = _first(bad)
+            raise _arg_error("m", i, f"element {i} = {mm[i]} is not in [0, inf]")
+    if time is None:
+        tt = np.arange(len(gg), dtype=np.float64)
+    else:
+        tt = as_float_array(time, "time").reshape(-1)
+        if tt.shape != gg.shape:
+            raise _arg_error("time", None, f"{tt.size} values for {gg.size} instants of g")
+        bad = ~np.isfinite(tt)
+        if bad.any():
+            i = _first(bad)
+            raise _arg_error("time", i, f"element {i} = {tt[i]} is not finite")
+        bad = ~(np.diff(tt) > 0)
+        if bad.any():
+            i = _first(bad) + 1
+            raise _arg_error("time", i, f"element {i} = {tt[i]} does not increase")
+    if not (np.isfinite(correlation_time) and correlation_time >= 0):
+        raise _arg_error(
+            "correlation_time", None, f"must be finite and >= 0, got {correlation_time}"
+        )
     out = _core.combine_instants(
-        gg,
+        np.ascontiguousarray(gg),
         np.ascontiguousarray(mm),
         np.ascontiguousarray(tt.reshape(-1)),
         np.array([0, len(gg)], dtype=np.uint64),

@@ -26,18 +26,37 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: Exit code of a run refused for its input (bad data, options or files); 1 is kept for
+#: unexpected failures, 130 for Ctrl-C.
+EXIT_INPUT = 2
+
+
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; every failure is one line on stderr and a nonzero exit code:
+    2 for input errors (bad data, options, unreadable or unwritable files), 130 for Ctrl-C,
+    1 for anything else."""
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
         code = args.func(args)
-    except (GeofeasError, OSError) as exc:
-        print(f"geofeas {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+    except (GeofeasError, OSError, UnicodeError, OverflowError) as exc:
+        print(f"geofeas {args.command}: error: {_one_line(exc)}", file=sys.stderr)
+        return EXIT_INPUT
     except KeyboardInterrupt:
         print(f"geofeas {args.command}: interrupted", file=sys.stderr)
         return 130
+    except Exception as exc:  # noqa: BLE001 - the command line never shows a traceback
+        print(
+            f"geofeas {args.command}: internal error: {type(exc).__name__}: {_one_line(exc)}",
+            file=sys.stderr,
+        )
+        return 1
     return int(code or 0)
+
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split())
+    return text or type(exc).__name__
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -73,6 +73,8 @@ _WGS84_F = 1.0 / 298.257_223_563
 #: The smallest radius of curvature of the WGS84 ellipsoid, b^2 / a (m).
 _MIN_CURVATURE_RADIUS = _WGS84_A * (1.0 - _WGS84_F) ** 2
 _REQUIRED = ("track_id", "source", "time")
+#: Digits of the zero-padded global track and source indices handed to the engine per tile.
+_ID_DIGITS = 19
 
 
 def _columns(frame_columns: Any, coords: str) -> tuple[str, tuple[str, ...]]:
@@ -118,7 +120,11 @@ def _global_rows(exc: GeofeasError, rows: NDArray[np.int64]) -> GeofeasError:
         k = int(m.group(2))
         return f"{m.group(1)}{int(rows[k]) if 0 <= k < len(rows) else k}"
 
-    return GeofeasError(re.sub(r"(\brow )(\d+)", sub, str(exc)))
+    err = GeofeasError(re.sub(r"(\brow )(\d+)", sub, str(exc)))
+    err.argument, err.field = getattr(exc, "argument", None), getattr(exc, "field", None)
+    row = getattr(exc, "row", None)
+    err.row = int(rows[row]) if row is not None and 0 <= row < len(rows) else row
+    return err
 
 
 def _partials(rep: Reports) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -436,7 +442,12 @@ def _score_tiles(
     for tile, rows in part.groupby("_tile", sort=True):
         rows = rows.sort_values("_row", kind="stable")  # the caller's order
         try:  # whole tracks here: the cross-report checks (one source, distinct times) bite
-            rep = read_reports(rows.loc[:, list(columns)].reset_index(drop=True), coords=coords)
+            table = rows.loc[:, list(columns)].reset_index(drop=True)
+            # ids are names: the global indices go in as zero-padded text, whose sorted order
+            # is the numeric order of the whole picture
+            for c in ("track_id", "source"):
+                table[c] = np.char.zfill(table[c].to_numpy(np.int64).astype(str), _ID_DIGITS)
+            rep = read_reports(table, coords=coords)
         except GeofeasError as exc:  # the caller's rows, ids and sources
             text = str(_global_rows(exc, rows["_row"].to_numpy(np.int64)))
             for word, names in (("track", track_ids), ("source", sources)):
@@ -444,8 +455,11 @@ def _score_tiles(
                 def name(m: re.Match[str], w: str = word, v: NDArray[Any] = names) -> str:
                     return f"{w} {v[int(m.group(1))]!r}"
 
-                text = re.sub(rf"\b{word} (?:np\.int64\()?(\d+)\)?", name, text)
-            raise GeofeasError(text) from None
+                text = re.sub(rf"\b{word} '?(\d+)'?", name, text)
+            err = GeofeasError(text)
+            err.argument, err.field = exc.argument, exc.field
+            err.row = None if exc.row is None else int(rows["_row"].to_numpy(np.int64)[exc.row])
+            raise err from None
         gid = np.asarray(rep.track_ids, dtype=np.int64)
         track, source, time, aou, n_local = rep._core_args()
         a, b = _core.association_candidates(
@@ -654,7 +668,13 @@ def _name_rows(exc: GeofeasError, ddf: dd.DataFrame) -> GeofeasError:
         p, r = v >> _ROW_BITS, v & ((1 << _ROW_BITS) - 1)
         return f"{m.group(1)}{int(offsets[p]) + r}" if p < len(offsets) - 1 else m.group(0)
 
-    return GeofeasError(re.sub(r"(\brow )(\d+)", sub, text))
+    err = GeofeasError(re.sub(r"(\brow )(\d+)", sub, text))
+    err.argument, err.field = getattr(exc, "argument", None), getattr(exc, "field", None)
+    row = getattr(exc, "row", None)
+    if row is not None:
+        p, r = int(row) >> _ROW_BITS, int(row) & ((1 << _ROW_BITS) - 1)
+        err.row = int(offsets[p]) + r if p < len(offsets) - 1 else row
+    return err
 
 
 def _run(

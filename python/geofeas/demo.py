@@ -23,6 +23,7 @@ from typing import Any, TextIO
 import numpy as np
 import pandas as pd
 
+from ._atomic import atomic_path, save_figure, write_text
 from ._core import GeofeasError
 from .ais import AisRecording, read_ais
 from .association import COMBINE_RULES, associate, read_reports
@@ -354,7 +355,7 @@ def plot_map(
     ax.legend(handles=handles, loc="upper right")
     ax.grid(alpha=0.3)
     out = Path(path)
-    fig.savefig(out, dpi=130, bbox_inches="tight")
+    save_figure(fig, out, dpi=130, bbox_inches="tight")
     plt.close(fig)
     return out
 
@@ -367,7 +368,8 @@ def write_outputs(result: DemoResult, out: str | Path, *, map_png: bool = True) 
     d.mkdir(parents=True, exist_ok=True)
     written = []
     p = d / "reports.csv"
-    result.scenario.reports.to_csv(p, index=False, float_format="%.7f")
+    with atomic_path(p) as tmp:
+        result.scenario.reports.to_csv(tmp, index=False, float_format="%.7f")
     written.append(p)
     pairs = result.default.pairs.copy()
     t = result.tracks
@@ -379,17 +381,20 @@ def write_outputs(result: DemoResult, out: str | Path, *, map_png: bool = True) 
     pairs["true_pair"] = [((x, y) if x < y else (y, x)) in truth for x, y in zip(a, b, strict=True)]
     pairs["mmsi_a"], pairs["mmsi_b"] = ma, mb
     p = d / "pairs.csv"
-    pairs.to_csv(p, index=False)
+    with atomic_path(p) as tmp:
+        pairs.to_csv(tmp, index=False)
     written.append(p)
     p = d / "metrics.csv"
-    result.metrics_table().to_csv(p, index=False, float_format="%.4f")
+    with atomic_path(p) as tmp:
+        result.metrics_table().to_csv(tmp, index=False, float_format="%.4f")
     written.append(p)
     p = d / "metrics.md"
-    p.write_text(markdown_table(result), encoding="utf-8")
+    write_text(p, markdown_table(result), encoding="utf-8")
     written.append(p)
     if result.default.metrics.by_sources is not None:
         p = d / "metrics_by_sources.csv"
-        result.default.metrics.by_sources.to_csv(p, index=False, float_format="%.4f")
+        with atomic_path(p) as tmp:
+            result.default.metrics.by_sources.to_csv(tmp, index=False, float_format="%.4f")
         written.append(p)
     if result.calibration is not None:
         p = d / "calibration.csv"

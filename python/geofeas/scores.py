@@ -6,6 +6,14 @@ ellipse ``(5,)`` or an array ``(n, 5)`` on either side: two arrays are scored el
 ellipse broadcasts against an array), and two single ellipses give a ``float``. :func:`cdist`
 scores all pairs between two sets. The work runs in Rust with the GIL released and can be
 interrupted with Ctrl-C.
+
+**Input domain** (every function here): every field finite, ``|x0|, |y0| <= 1e50``, semi-axes in
+``[1e-50, 1e50]``, aspect ratio ``max(rx, ry) / min(rx, ry) <= 1e8``. Inside it every score is
+computed to full accuracy (the exact overlap to ``1e-11``) without overflow or underflow;
+outside it a :class:`GeofeasError` names the argument (``a``, ``b``, ``e``), row and field
+(also as its ``argument``, ``row`` and ``field`` attributes). Options: ``vertices`` in
+``[8, 2**20]``, ``samples`` in ``[1, 10**7]``; an option the chosen score does not take is
+refused.
 """
 
 from __future__ import annotations
@@ -263,11 +271,34 @@ def gaussian_product(a: ArrayLike, b: ArrayLike, /) -> Any:
 
 
 def _memory_limit() -> int:
-    """Half the physical memory: the largest ``cdist`` output accepted."""
+    """The largest ``cdist`` output accepted: half of the memory this process may use, the
+    smallest of the physical memory, the cgroup limit (v2 ``memory.max``, v1
+    ``memory.limit_in_bytes``) and the address-space limit ``RLIMIT_AS``."""
+    limits = []
     try:
-        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE") // 2
+        limits.append(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
     except (ValueError, OSError, AttributeError):
-        return 8 << 30
+        limits.append(16 << 30)
+    for path in (
+        "/sys/fs/cgroup/memory.max",
+        "/sys/fs/cgroup/memory/memory.limit_in_bytes",
+    ):
+        try:
+            with open(path, encoding="ascii") as fh:
+                text = fh.read().strip()
+        except OSError:
+            continue
+        if text.isdigit():
+            limits.append(int(text))
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+        if soft != resource.RLIM_INFINITY and soft > 0:
+            limits.append(soft)
+    except (ImportError, OSError, ValueError):  # pragma: no cover - not POSIX
+        pass
+    return min(limits) // 2
 
 
 def cdist(
@@ -287,7 +318,8 @@ def cdist(
     b : array_like, shape (m, 5) or (5,)
     score : {"glr", "overlap", "monte_carlo", "bhattacharyya", "hellinger", "gaussian_product"}
     max_bytes : int, optional
-        Refuse outputs larger than this (default: half the physical memory), before allocating.
+        Refuse outputs larger than this, before allocating (default, and upper bound: half
+        of the memory the process may use: physical memory, cgroup limit, ``RLIMIT_AS``).
     **options
         The options of the chosen score (``threshold``; ``method``, ``vertices``; ``samples``,
         ``seed``, ``sampler``).
@@ -299,7 +331,10 @@ def cdist(
     """
     ea, _ = as_ellipses(a, "a")
     eb, _ = as_ellipses(b, "b")
-    limit = _memory_limit() if max_bytes is None else _count(max_bytes, "max_bytes", 0)
+    # a caller's limit can lower the guard, never raise it past the memory this process has
+    limit = _memory_limit()
+    if max_bytes is not None:
+        limit = min(limit, _count(max_bytes, "max_bytes", 0))
     result: NDArray[np.float64] = _core.score_cdist(
         ea, eb, score, max_bytes=limit, **_options(score, options)
     )

@@ -79,6 +79,27 @@ def _to_distance(g: float, kind: str) -> float:
     return math.inf if g <= 0.0 else -math.log(g)
 
 
+def _combine_neglog(nl: NDArray[np.float64], how: str) -> float:
+    """``-ln`` of :func:`_combine` of ``g = exp(-nl)``, computed in the log domain so that
+    instants far beyond the range of ``exp`` (``-ln g`` above about 745) keep their value."""
+    if how == "geometric":
+        return float(np.mean(nl))
+    if how == "min":
+        return float(np.max(nl))
+    n = nl.size
+    if how == "arithmetic":
+        # -ln(mean(exp(-nl))) = min(nl) - ln(mean(exp(min(nl) - nl)))
+        lo = float(np.min(nl))
+        if math.isinf(lo):
+            return math.inf
+        return lo - math.log(float(np.sum(np.exp(lo - nl))) / n)
+    # harmonic: -ln(n / sum(exp(nl))) = max(nl) + ln(sum(exp(nl - max(nl))) / n)
+    hi = float(np.max(nl))
+    if math.isinf(hi):
+        return math.inf
+    return hi + math.log(float(np.sum(np.exp(nl - hi))) / n)
+
+
 def _combine(g: NDArray[np.float64], how: str) -> float:
     if how == "arithmetic":
         return float(np.mean(g))
@@ -156,25 +177,49 @@ class GeofeasMeasure(Measure, TrackMeasure):
             means[k], covs[k] = _position(state, mapping, f"state {k} ({state.timestamp})")
         return from_gaussian(means, covs)
 
-    def similarity(self, item1: Any, item2: Any) -> float | None:
-        """The score ``g`` itself (a similarity in ``[0, 1]``); ``None`` for disjoint tracks."""
+    def neglog(self, first: Sequence[Any], second: Sequence[Any]) -> NDArray[np.float64]:
+        """``-ln g`` of aligned state sequences, in ``[0, inf]``. Measures whose score has a
+        closed-form logarithm (the GLR) override this so it never passes through ``exp``."""
+        a = self.ellipses(first)
+        b = self.ellipses(second, second=True)
+        g = np.asarray(self.score(a, b), dtype=np.float64)
+        with np.errstate(divide="ignore"):
+            out: NDArray[np.float64] = -np.log(g)
+        return out
+
+    def _aligned(self, item1: Any, item2: Any) -> tuple[list[Any], list[Any]] | None:
+        """The states of two tracks at their common timestamps (``None``: none), or the two
+        states."""
         if isinstance(item1, StateMutableSequence) and isinstance(item2, StateMutableSequence):
             first = {s.timestamp: s for s in item1.states}
             second = {s.timestamp: s for s in item2.states}
             times = sorted(first.keys() & second.keys())
             if not times:
                 return None
-            a = self.ellipses([first[t] for t in times])
-            b = self.ellipses([second[t] for t in times], second=True)
-            return _combine(np.asarray(self.score(a, b), dtype=np.float64), self.combine)
+            return [first[t] for t in times], [second[t] for t in times]
         if isinstance(item1, StateMutableSequence) or isinstance(item2, StateMutableSequence):
             raise GeofeasError("a geofeas measure compares two states or two tracks, not a mix")
-        a = self.ellipses([item1])
-        b = self.ellipses([item2], second=True)
-        return float(self.score(a, b)[0])
+        return [item1], [item2]
+
+    def similarity(self, item1: Any, item2: Any) -> float | None:
+        """The score ``g`` itself (a similarity in ``[0, 1]``); ``None`` for disjoint tracks."""
+        aligned = self._aligned(item1, item2)
+        if aligned is None:
+            return None
+        a = self.ellipses(aligned[0])
+        b = self.ellipses(aligned[1], second=True)
+        return _combine(np.asarray(self.score(a, b), dtype=np.float64), self.combine)
 
     def __call__(self, item1: Any, item2: Any) -> float | None:  # type: ignore[override]
-        """Distance between two Gaussian states, or two tracks (``None``: no common time)."""
+        """Distance between two Gaussian states, or two tracks (``None``: no common time).
+
+        ``distance="neglog"`` is computed in the log domain throughout (per instant and in the
+        combination), so it is exact far beyond the point where ``g`` underflows to 0."""
+        if self.distance == "neglog":
+            aligned = self._aligned(item1, item2)
+            if aligned is None:
+                return None
+            return _combine_neglog(self.neglog(*aligned), self.combine)
         g = self.similarity(item1, item2)
         return None if g is None else _to_distance(g, self.distance)
 
@@ -189,6 +234,29 @@ class GLRMeasure(GeofeasMeasure):
 
     def score(self, a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
         out: NDArray[np.float64] = glr(a, b)
+        return out
+
+    def neglog(self, first: Sequence[Any], second: Sequence[Any]) -> NDArray[np.float64]:
+        """``0.5 d^T (R1 + R2)^-1 d`` per instant, straight from the states' means and
+        covariances (no ``exp``: no saturation at large distances)."""
+        n = len(first)
+        d = np.empty((n, 2))
+        s = np.empty((n, 2, 2))
+        for k, (x, y) in enumerate(zip(first, second, strict=True)):
+            ma, ca = _position(x, self.mapping, f"state {k} ({x.timestamp})")
+            mb, cb = _position(y, self.mapping2, f"state {k} ({y.timestamp})")
+            d[k] = ma - mb
+            s[k] = ca + cb
+        # the covariances are validated as the score would validate them
+        from_gaussian(np.zeros((n, 2)), s / 2)
+        # 2x2 solve in closed form, scaled per instant so no product overflows
+        scale = np.maximum(np.abs(s).max(axis=(1, 2)), np.finfo(float).tiny)
+        sx, sy = s[:, 0, 0] / scale, s[:, 1, 1] / scale
+        sxy = 0.5 * (s[:, 0, 1] + s[:, 1, 0]) / scale
+        det = sx * sy - sxy * sxy
+        dx, dy = d[:, 0] / np.sqrt(scale), d[:, 1] / np.sqrt(scale)
+        q = (sy * dx * dx - 2.0 * sxy * dx * dy + sx * dy * dy) / det
+        out: NDArray[np.float64] = 0.5 * np.maximum(q, 0.0)
         return out
 
 

@@ -14,6 +14,13 @@ use crate::error::{Error, Result};
 /// Names of the five ellipse fields, in array column order.
 pub const FIELDS: [&str; 5] = ["x0", "y0", "rx", "ry", "phi"];
 
+/// Largest accepted `|x0|`, `|y0|`, `rx`, `ry` (see [`Ellipse::validated`]).
+pub const MAX_LENGTH: f64 = 1e50;
+/// Smallest accepted semi-axis.
+pub const MIN_SEMI_AXIS: f64 = 1e-50;
+/// Largest accepted aspect ratio `max(rx, ry) / min(rx, ry)`.
+pub const MAX_ASPECT: f64 = 1e8;
+
 /// A 2-sigma area of uncertainty. `repr(C)`: a row-major `(n, 5)` float64 array is a
 /// `[Ellipse]` (see [`Ellipse::from_flat`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -84,9 +91,49 @@ impl Ellipse {
         [self.x0, self.y0, self.rx, self.ry, self.phi]
     }
 
-    /// Checks that every field is finite and both semi-axes are strictly positive.
-    /// `row` is reported in the error.
+    /// Checks that every field is finite, both semi-axes are strictly positive, and the ellipse
+    /// lies in the input domain of the scores: `|x0|, |y0| <= 1e50`, semi-axes in
+    /// `[1e-50, 1e50]`, aspect ratio `max(rx, ry) / min(rx, ry) <= 1e8`. Inside it every score
+    /// of every pair is computed without overflow or underflow; outside it is refused rather
+    /// than answered inaccurately. `row` is reported in the error.
     pub fn validated(self, row: usize) -> Result<Self> {
+        self.validated_shape(row)?;
+        let out = |field: &'static str, value: f64, reason: &'static str| Error::OutOfDomain {
+            what: "ellipse",
+            row,
+            field,
+            value,
+            reason,
+        };
+        for (field, value) in [("x0", self.x0), ("y0", self.y0)] {
+            if value.abs() > MAX_LENGTH {
+                return Err(out(field, value, "|centre| must be <= 1e50"));
+            }
+        }
+        for (field, value) in [("rx", self.rx), ("ry", self.ry)] {
+            if !(MIN_SEMI_AXIS..=MAX_LENGTH).contains(&value) {
+                return Err(out(field, value, "semi-axes must be in [1e-50, 1e50]"));
+            }
+        }
+        let (big, small, field) = if self.rx >= self.ry {
+            (self.rx, self.ry, "ry")
+        } else {
+            (self.ry, self.rx, "rx")
+        };
+        if big > MAX_ASPECT * small {
+            return Err(out(
+                field,
+                small,
+                "aspect ratio max(rx, ry) / min(rx, ry) must be <= 1e8",
+            ));
+        }
+        Ok(self)
+    }
+
+    /// Checks that every field is finite and both semi-axes are strictly positive (no
+    /// magnitude limits: for geometry that does not feed the scores). `row` is reported in the
+    /// error.
+    pub fn validated_shape(self, row: usize) -> Result<Self> {
         for (field, value) in FIELDS.iter().zip(self.to_row()) {
             if !value.is_finite() {
                 return Err(Error::NonFinite {

@@ -53,7 +53,68 @@ pub enum Error {
     /// A long computation was interrupted by the caller (for example Ctrl-C in Python).
     #[error("interrupted")]
     Interrupted,
+    /// A finite value outside the documented input domain (magnitudes whose scores could not
+    /// be computed to full accuracy in double precision).
+    #[error("{what} row {row}: field '{field}' = {value} is outside the input domain ({reason})")]
+    OutOfDomain {
+        what: &'static str,
+        row: usize,
+        field: &'static str,
+        value: f64,
+        reason: &'static str,
+    },
     /// Anything about input data that does not fit the variants above.
     #[error("{0}")]
     Invalid(String),
+    /// An error in the named argument of a call (`a`, `b`, `reports`, ...).
+    #[error("argument '{argument}': {source}")]
+    InArgument {
+        argument: &'static str,
+        source: Box<Error>,
+    },
+}
+
+impl Error {
+    /// This error, attributed to the argument `argument` (kept if one is already named).
+    pub fn in_argument(self, argument: &'static str) -> Self {
+        match self {
+            Self::InArgument { .. } | Self::Interrupted => self,
+            other => Self::InArgument {
+                argument,
+                source: Box::new(other),
+            },
+        }
+    }
+
+    /// The argument at fault, when known (an option's name for [`Error::InvalidOption`]).
+    pub fn argument(&self) -> Option<&'static str> {
+        match self {
+            Self::InArgument { argument, .. } => Some(argument),
+            Self::InvalidOption { name, .. } => Some(name),
+            _ => None,
+        }
+    }
+
+    /// The row (0-based) at fault, when the error concerns one row.
+    pub fn row(&self) -> Option<usize> {
+        match self {
+            Self::NonFinite { row, .. }
+            | Self::NonPositive { row, .. }
+            | Self::OutOfDomain { row, .. }
+            | Self::NotPositiveDefinite { row, .. } => Some(*row),
+            Self::InArgument { source, .. } => source.row(),
+            _ => None,
+        }
+    }
+
+    /// The field at fault, when the error concerns one field.
+    pub fn field(&self) -> Option<&'static str> {
+        match self {
+            Self::NonFinite { field, .. }
+            | Self::NonPositive { field, .. }
+            | Self::OutOfDomain { field, .. } => Some(field),
+            Self::InArgument { source, .. } => source.field(),
+            _ => None,
+        }
+    }
 }

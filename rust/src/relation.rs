@@ -189,10 +189,15 @@ static GRID: std::sync::LazyLock<[[f64; 4]; 48]> = std::sync::LazyLock::new(|| {
 /// assert_eq!(relation(&big, &Ellipse::circle(30.0, 0.0, 1.0)), Relation::Disjoint);
 /// ```
 pub fn relation(a: &Ellipse, b: &Ellipse) -> Relation {
+    if a == b {
+        // identical: decided exactly, not through the rounding of the boundary function
+        return Relation::AInsideB;
+    }
     let fa = BoundaryFn::new(a, b);
     // Fast path: boundary points of `a` clearly inside and clearly outside `b` -> crossing.
     let (lo, hi, err) = fa.sampled();
-    if lo < 1.0 - err && hi > 1.0 + err {
+    if lo < 1.0 - 2.0 * err && hi > 1.0 + 2.0 * err {
+        // a's boundary has points certainly inside and certainly outside b
         return Relation::Crossing;
     }
     // Certified fast paths: between grid points `f` strays from the sampled values by at most
@@ -215,16 +220,23 @@ pub fn relation(a: &Ellipse, b: &Ellipse) -> Relation {
 }
 
 /// The relation from the exact extremes of both boundary functions (the slow, general path).
+///
+/// Certified up to the rounding of the boundary functions themselves: an extreme within the
+/// rounding bound of 1 (`16 eps sum |K|`) counts as on the other boundary, so identical
+/// ellipses, and ellipses equal up to the last bits of their fields, are nested rather than
+/// left to a root count that rounding decides.
 fn by_extremes(a: &Ellipse, b: &Ellipse, fa: &BoundaryFn) -> Relation {
     let (amin, amax) = fa.extremes();
-    if amax <= 1.0 {
+    let tol_a = fa.sampled().2;
+    if amax <= 1.0 + tol_a {
         return Relation::AInsideB;
     }
-    let (_, bmax) = BoundaryFn::new(b, a).extremes();
-    if bmax <= 1.0 {
+    let fb = BoundaryFn::new(b, a);
+    let (_, bmax) = fb.extremes();
+    if bmax <= 1.0 + fb.sampled().2 {
         return Relation::BInsideA;
     }
-    if amin > 1.0 {
+    if amin > 1.0 + tol_a {
         // a's boundary misses b and b is not inside a: nothing of b is inside a.
         Relation::Disjoint
     } else {

@@ -478,3 +478,48 @@ fn extreme_magnitudes_give_a_score_in_range() {
         }
     }
 }
+
+/// Thin ellipses touching near internal tangency while crossing elsewhere: rounding splits the
+/// tangency into spurious crossings, which must not crowd out the true ones. The truth is a
+/// 50-digit reference (and `tests/exact_reference.py` agrees).
+#[test]
+fn thin_pair_near_internal_tangency() {
+    let a = Ellipse::new(
+        -0.5051807090518174,
+        -0.7816121396483737,
+        1.8203731844787696,
+        0.045556928976155354,
+        0.9906815718245982,
+    );
+    let b = Ellipse::new(
+        1.213524591913347,
+        -0.12074190277397812,
+        0.3948377786793643,
+        0.06252637189172866,
+        -0.5514741753330439,
+    );
+    for (p, q) in [(a, b), (b, a)] {
+        let g = overlap_exact(&p, &q);
+        assert!((g - 0.002293877603833476).abs() < 1e-11, "{g}");
+    }
+}
+
+/// Crossed needles up to the aspect limit of the input domain (1e8): `4 ab atan(b/a)`. The
+/// boundary function must be evaluated from `z(t)`, not from its expanded coefficients, which
+/// cancel to nothing at this aspect.
+#[test]
+fn crossed_needles_up_to_aspect_1e8() {
+    for aspect in [1e2f64, 1e4, 1e6, 1e8] {
+        let (ra, rb) = (aspect.sqrt(), 1.0 / aspect.sqrt());
+        let a = Ellipse::new(0.0, 0.0, ra, rb, 0.3);
+        let b = Ellipse::new(0.0, 0.0, ra, rb, 0.3 + FRAC_PI_2);
+        let truth = 4.0 * (1.0 / aspect).atan() / PI;
+        for (p, q) in [(a, b), (b, a)] {
+            let g = overlap_exact(&p, &q);
+            assert!(
+                (g - truth).abs() <= 1e-13 + 1e-9 * truth,
+                "aspect {aspect}: {g} vs {truth}"
+            );
+        }
+    }
+}

@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
 from .._arrays import as_float_array
+from .._atomic import save_figure
 from .._core import GeofeasError
 
 __all__ = [
@@ -374,7 +375,7 @@ def plot_run(result: dict[str, Any], out_dir: str | Path, *, prefix: str = "run"
     ax1.set_xlabel("x [m]")
     fig.tight_layout()
     p = out / f"{prefix}_tracks.png"
-    fig.savefig(p, dpi=110)
+    save_figure(fig, p, dpi=110)
     plt.close(fig)
     paths.append(p)
 
@@ -395,7 +396,7 @@ def plot_run(result: dict[str, Any], out_dir: str | Path, *, prefix: str = "run"
         fig.suptitle(f"detections of sensor {s + 1} (x = {sensors[s, 0]:g} m), coloured by track")
         fig.tight_layout()
         p = out / f"{prefix}_sensor{s + 1}.png"
-        fig.savefig(p, dpi=110)
+        save_figure(fig, p, dpi=110)
         plt.close(fig)
         paths.append(p)
     return paths

@@ -26,6 +26,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
 from .._arrays import as_float_array
+from .._atomic import save_figure
 from .._core import GeofeasError
 from ..scores import from_gaussian
 
@@ -516,7 +517,7 @@ def plot_pf_run(result: dict[str, Any], out_dir: str | Path, *, prefix: str = "r
     ax.legend(loc="upper center", fontsize=7, ncol=4)
     fig.tight_layout()
     p = out / f"{prefix}_tracks.png"
-    fig.savefig(p, dpi=110)
+    save_figure(fig, p, dpi=110)
     plt.close(fig)
     paths.append(p)
 
@@ -535,7 +536,7 @@ def plot_pf_run(result: dict[str, Any], out_dir: str | Path, *, prefix: str = "r
     fig.suptitle(f"{title}: position errors and 2-sigma bounds")
     fig.tight_layout()
     p = out / f"{prefix}_errors.png"
-    fig.savefig(p, dpi=100)
+    save_figure(fig, p, dpi=100)
     plt.close(fig)
     paths.append(p)
 
@@ -557,7 +558,7 @@ def plot_pf_run(result: dict[str, Any], out_dir: str | Path, *, prefix: str = "r
     fig.suptitle(title)
     fig.tight_layout()
     p = out / f"{prefix}_association.png"
-    fig.savefig(p, dpi=100)
+    save_figure(fig, p, dpi=100)
     plt.close(fig)
     paths.append(p)
 
@@ -574,7 +575,7 @@ def plot_pf_run(result: dict[str, Any], out_dir: str | Path, *, prefix: str = "r
         fig.suptitle(f"{title}: measurement residual mean and 2-sigma (Fig. 12)")
         fig.tight_layout()
         p = out / f"{prefix}_residuals.png"
-        fig.savefig(p, dpi=100)
+        save_figure(fig, p, dpi=100)
         plt.close(fig)
         paths.append(p)
     return paths

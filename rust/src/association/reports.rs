@@ -133,11 +133,57 @@ impl Reports {
                     });
                 }
             }
-            if coords == Coords::Geographic && aou[row][0].abs() > 90.0 {
-                return Err(Error::Invalid(format!(
-                    "report row {row}: field 'lat' must be in [-90, 90], got {}",
+            if coords == Coords::Geographic {
+                for (k, field, limit) in [(0, "lat", 90.0), (1, "lon", 180.0)] {
+                    if aou[row][k].abs() > limit {
+                        return Err(Error::OutOfDomain {
+                            what: "report",
+                            row,
+                            field,
+                            value: aou[row][k],
+                            reason: if k == 0 {
+                                "latitude must be in [-90, 90]"
+                            } else {
+                                "longitude must be in [-180, 180]"
+                            },
+                        });
+                    }
+                }
+            }
+            // the semi-axes and the planar centre feed the scores: the same domain as theirs
+            let (rx, ry) = (aou[row][2], aou[row][3]);
+            let domain = crate::ellipse::Ellipse::new(
+                if coords == Coords::Planar {
                     aou[row][0]
-                )));
+                } else {
+                    0.0
+                },
+                if coords == Coords::Planar {
+                    aou[row][1]
+                } else {
+                    0.0
+                },
+                rx,
+                ry,
+                0.0,
+            );
+            if let Err(Error::OutOfDomain {
+                field,
+                value,
+                reason,
+                ..
+            }) = domain.validated(row)
+            {
+                return Err(Error::OutOfDomain {
+                    what: "report",
+                    row,
+                    field: names[crate::ellipse::FIELDS
+                        .iter()
+                        .position(|f| *f == field)
+                        .unwrap_or(2)],
+                    value,
+                    reason,
+                });
             }
         }
         let mut order: Vec<usize> = (0..n).collect();

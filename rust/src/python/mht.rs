@@ -118,6 +118,39 @@ fn to_2d<'py>(py: Python<'py>, flat: Vec<f64>, cols: usize) -> PyResult<Bound<'p
 /// A state vector and its covariance.
 type StateAndCovariance<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>);
 
+/// Refuses a count option above `max` (a bound on the work and memory of one call, far above
+/// the paper's settings).
+fn at_most(name: &'static str, value: usize, max: usize) -> crate::Result<usize> {
+    if value > max {
+        return Err(Error::InvalidOption {
+            name,
+            reason: format!("must be <= {max}, got {value}"),
+        });
+    }
+    Ok(value)
+}
+
+/// Most EKF relinearisations per update.
+const MAX_EKF_ITERATIONS: usize = 100;
+/// Most hypotheses kept.
+const MAX_HYPOTHESES: usize = 100_000;
+/// Most targets, sensors and false alarms per scan of a simulated run.
+const MAX_SCENARIO_COUNT: usize = 1000;
+
+/// Checks that a row-major 2x2 matrix is a covariance: symmetric (to `1e-12` relative) and
+/// positive definite.
+fn covariance_2x2(c: &[f64]) -> crate::Result<()> {
+    let scale = c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if (c[1] - c[2]).abs() > 1e-12 * scale {
+        return Err(Error::NotPositiveDefinite {
+            row: 0,
+            reason: format!("not symmetric: [0, 1] = {} != [1, 0] = {}", c[1], c[2]),
+        });
+    }
+    let g = crate::ellipse::Gaussian::new([0.0, 0.0], [c[0], 0.5 * (c[1] + c[2]), c[3]]);
+    g.validated(0).map(|_| ())
+}
+
 /// Trilaterates two detections `(r, r')` of sensors at `pos_a`, `pos_b` (beams of half-width
 /// `half_beam` along `boresight`); returns the state `(x, y, vx, vy)` and its covariance (eq. 8).
 #[pyfunction]
@@ -163,9 +196,19 @@ fn mht_trilaterate<'py>(
         ("cov_a", ca),
         ("cov_b", cb),
     ] {
-        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-            return Err(Error::Invalid(format!("{what}: non-finite value {x}")).into());
+        if let Some((i, x)) = v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+            return Err(Error::NonFinite {
+                what: "value",
+                row: i,
+                field: what,
+                value: *x,
+            }
+            .in_argument(what)
+            .into());
         }
+    }
+    for (what, c) in [("cov_a", ca), ("cov_b", cb)] {
+        covariance_2x2(c).map_err(|e| e.in_argument(what))?;
     }
     let m = |c: &[f64]| nalgebra::Matrix2::new(c[0], c[1], c[2], c[3]);
     let (x, p) =
@@ -204,6 +247,8 @@ fn mht_track<'py>(
     ekf_iterations: usize,
     single: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
+    at_most("ekf_iterations", ekf_iterations, MAX_EKF_ITERATIONS)?;
+    at_most("max_hypotheses", max_hypotheses, MAX_HYPOTHESES)?;
     let flat = matrix("detections", &detections, 4)?;
     let sens = sensors_from(matrix("sensors", &sensors, 6)?)?;
     let mut dets = Vec::with_capacity(flat.len() / 4);
@@ -278,11 +323,13 @@ fn mht_simulate_run<'py>(
     ekf_iterations: usize,
     detection_probability: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
+    at_most("ekf_iterations", ekf_iterations, MAX_EKF_ITERATIONS)?;
+    at_most("max_hypotheses", max_hypotheses, MAX_HYPOTHESES)?;
     let cell = Cell {
-        targets,
-        sensors,
+        targets: at_most("targets", targets, MAX_SCENARIO_COUNT)?,
+        sensors: at_most("sensors", sensors, MAX_SCENARIO_COUNT)?,
         tracker: tracker_kind(tracker)?,
-        false_alarms,
+        false_alarms: at_most("false_alarms", false_alarms, MAX_SCENARIO_COUNT)?,
     };
     let opts = StudyOptions {
         runs: 1,
@@ -350,6 +397,8 @@ fn mht_study<'py>(
     new_target_rate: f64,
     detection_probability: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
+    at_most("ekf_iterations", ekf_iterations, MAX_EKF_ITERATIONS)?;
+    at_most("max_hypotheses", max_hypotheses, MAX_HYPOTHESES)?;
     let opts = StudyOptions {
         runs,
         seed,

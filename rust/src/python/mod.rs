@@ -18,11 +18,22 @@ pyo3::create_exception!(
 );
 
 impl From<crate::Error> for PyErr {
+    /// A [`GeofeasError`] carrying the message and, as attributes, the argument, row and field
+    /// at fault (`None` when the error does not concern one); Ctrl-C becomes
+    /// `KeyboardInterrupt`.
     fn from(err: crate::Error) -> PyErr {
-        match err {
-            crate::Error::Interrupted => PyKeyboardInterrupt::new_err("interrupted"),
-            other => GeofeasError::new_err(other.to_string()),
+        if err == crate::Error::Interrupted {
+            return PyKeyboardInterrupt::new_err("interrupted");
         }
+        let py_err = GeofeasError::new_err(err.to_string());
+        Python::attach(|py| {
+            let value = py_err.value(py);
+            // setting an attribute on a fresh exception instance cannot fail
+            let _ = value.setattr("argument", err.argument());
+            let _ = value.setattr("row", err.row());
+            let _ = value.setattr("field", err.field());
+        });
+        py_err
     }
 }
 
@@ -75,7 +86,11 @@ where
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add("GeofeasError", m.py().get_type::<GeofeasError>())?;
+    let error_type = m.py().get_type::<GeofeasError>();
+    for attribute in ["argument", "row", "field"] {
+        error_type.setattr(attribute, m.py().None())?;
+    }
+    m.add("GeofeasError", error_type)?;
     scores::register(m)?;
     mht::register(m)?;
     pf::register(m)?;

@@ -550,7 +550,7 @@ fn pf_render<'py>(
         }
         .into());
     }
-    if width == 0 || height == 0 || width * height > 1 << 26 {
+    if width == 0 || height == 0 || width.checked_mul(height).map_or(true, |n| n > 1 << 26) {
         return Err(Error::InvalidOption {
             name: "width / height",
             reason: format!("must be >= 1 and at most 2^26 cells, got {width} x {height}"),

@@ -121,7 +121,10 @@ fn to_gaussian<'py>(
         let mut mean = Vec::with_capacity(2 * n);
         let mut cov = Vec::with_capacity(4 * n);
         for (row, e) in ee.iter().enumerate() {
-            let g = e.validated(row)?.to_gaussian();
+            let g = e
+                .validated(row)
+                .map_err(|e| e.in_argument("e"))?
+                .to_gaussian();
             mean.extend_from_slice(&g.mean);
             cov.extend_from_slice(&[g.cov[0], g.cov[1], g.cov[1], g.cov[2]]);
         }
@@ -172,13 +175,22 @@ fn from_gaussian<'py>(
                         "not symmetric: cov[0, 1] = {} != cov[1, 0] = {}",
                         cc[1], cc[2]
                     ),
-                });
+                }
+                .in_argument("cov"));
             }
             let g = Gaussian::new(
                 [m[2 * row], m[2 * row + 1]],
                 [cc[0], 0.5 * (cc[1] + cc[2]), cc[3]],
             )
-            .validated(row)?;
+            .validated(row)
+            .map_err(|e| {
+                let argument = if e.field().is_some_and(|f| f.starts_with("mean")) {
+                    "mean"
+                } else {
+                    "cov"
+                };
+                e.in_argument(argument)
+            })?;
             out.extend_from_slice(&g.to_ellipse().to_row());
         }
         Ok(out)
@@ -190,7 +202,9 @@ fn from_gaussian<'py>(
 #[pyfunction]
 fn validate_ellipses(py: Python<'_>, e: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
     let ee = ellipses("e", &e)?;
-    detached(py, || crate::score::validate(ee))
+    detached(py, || {
+        crate::score::validate(ee).map_err(|e| e.in_argument("e"))
+    })
 }
 
 /// The documented polygon-overlap error bound for `vertices` and area ratio `A_max / A_min`.

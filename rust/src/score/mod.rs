@@ -96,8 +96,8 @@ pub fn score_pairs<S: PairScore>(
 ) -> Result<()> {
     let n = broadcast_len(a.len(), b.len())?;
     check_out(out.len(), n)?;
-    validate(a)?;
-    validate(b)?;
+    validate(a).map_err(|e| e.in_argument("a"))?;
+    validate(b).map_err(|e| e.in_argument("b"))?;
     let (ia, ib) = (a.len() > 1, b.len() > 1);
     run_chunked(out, score.chunk_pairs(), interrupt, |start, block| {
         let end = start + block.len();
@@ -117,8 +117,8 @@ pub fn score_cdist<S: PairScore>(
 ) -> Result<()> {
     let m = b.len();
     check_out(out.len(), a.len() * m)?;
-    validate(a)?;
-    validate(b)?;
+    validate(a).map_err(|e| e.in_argument("a"))?;
+    validate(b).map_err(|e| e.in_argument("b"))?;
     if m == 0 {
         return Ok(());
     }

@@ -62,10 +62,13 @@ impl Polygon {
     pub const DEFAULT_VERTICES: usize = 256;
     /// Smallest resolution accepted.
     pub const MIN_VERTICES: usize = 8;
+    /// Largest resolution accepted (16 MiB of vertices per polygon; the error bound is then
+    /// below `1e-16 (1 + A_max / A_min)`).
+    pub const MAX_VERTICES: usize = 1 << 20;
 
     /// Options for `vertices` vertices (at least [`Polygon::MIN_VERTICES`]).
     pub fn new(vertices: usize) -> Self {
-        let n = vertices.max(Self::MIN_VERTICES);
+        let n = vertices.clamp(Self::MIN_VERTICES, Self::MAX_VERTICES);
         let step = std::f64::consts::TAU / n as f64;
         let k = (std::f64::consts::TAU / (n as f64 * step.sin())).sqrt();
         let unit = (0..n)
@@ -169,6 +172,44 @@ fn clip_to_box(
     }
 }
 
+/// Whether the boundary of `a`, measured in `b`'s normalised frame, stays within 1% of it
+/// (nearly identical ellipses).
+fn near_identical(a: &Ellipse, b: &Ellipse) -> bool {
+    let (lo, hi, _) = crate::relation::BoundaryFn::new(a, b).sampled();
+    lo > 0.98 && hi < 1.02
+}
+
+/// `out` = the intersection of the convex counter-clockwise polygons `pa` and `pb`, by
+/// Sutherland-Hodgman clipping of `pa` against every edge of `pb` (`tmp` is scratch space).
+fn clip_convex(pa: &[Vector], pb: &[Vector], out: &mut Vec<Vector>, tmp: &mut Vec<Vector>) {
+    out.clear();
+    out.extend_from_slice(pa);
+    for k in 0..pb.len() {
+        let (e0, e1) = (pb[k], pb[(k + 1) % pb.len()]);
+        let (ex, ey) = (e1.x - e0.x, e1.y - e0.y);
+        // > 0: left of the edge, inside a counter-clockwise polygon
+        let side = |p: &Vector| ex * (p.y - e0.y) - ey * (p.x - e0.x);
+        tmp.clear();
+        let mut p = out[out.len() - 1];
+        let mut sp = side(&p);
+        for &q in out.iter() {
+            let sq = side(&q);
+            if (sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0) {
+                tmp.push(p + (q - p) * (sp / (sp - sq)));
+            }
+            if sq >= 0.0 {
+                tmp.push(q);
+            }
+            (p, sp) = (q, sq);
+        }
+        std::mem::swap(out, tmp);
+        if out.len() < 3 {
+            out.clear();
+            return;
+        }
+    }
+}
+
 /// Shoelace area of a simple polygon.
 pub fn shoelace(points: &[Vector]) -> f64 {
     let n = points.len();
@@ -221,8 +262,16 @@ impl PairScore for Polygon {
             if pa.len() < 3 || pb.len() < 3 {
                 return 0.0;
             }
-            convex_polygons_intersection_points(pa, pb, out);
-            let area = shoelace(out);
+            let area = if near_identical(ea, eb) {
+                // boundaries within 1% of each other all the way round: edges of the two
+                // polygons nearly coincide, which the clipper's walk does not survive; clip
+                // by every edge instead (O(n m), exact for convex polygons)
+                clip_convex(pa, pb, out, tmp);
+                shoelace(out)
+            } else {
+                convex_polygons_intersection_points(pa, pb, out);
+                shoelace(out)
+            };
             let small_area = std::f64::consts::PI * small.rx * inv * small.ry * inv;
             (area / small_area).clamp(0.0, 1.0)
         })

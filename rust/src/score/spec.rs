@@ -70,12 +70,14 @@ impl Score {
             })),
             "overlap" => match options.method.as_str() {
                 "polygon" => {
-                    if options.vertices < Polygon::MIN_VERTICES {
+                    if !(Polygon::MIN_VERTICES..=Polygon::MAX_VERTICES).contains(&options.vertices)
+                    {
                         return Err(Error::InvalidOption {
                             name: "vertices",
                             reason: format!(
-                                "must be >= {}, got {}",
+                                "must be in [{}, {}], got {}",
                                 Polygon::MIN_VERTICES,
+                                Polygon::MAX_VERTICES,
                                 options.vertices
                             ),
                         });
@@ -91,10 +93,14 @@ impl Score {
                 }),
             },
             "monte_carlo" => {
-                if options.samples == 0 {
+                if !(1..=MonteCarlo::MAX_SAMPLES).contains(&options.samples) {
                     return Err(Error::InvalidOption {
                         name: "samples",
-                        reason: "must be >= 1".into(),
+                        reason: format!(
+                            "must be in [1, {}], got {}",
+                            MonteCarlo::MAX_SAMPLES,
+                            options.samples
+                        ),
                     });
                 }
                 let sampler =

@@ -36,12 +36,18 @@ impl Default for PeakOptions {
 }
 
 impl PeakOptions {
-    /// Checks the options.
+    /// Most peaks per frame.
+    pub const MAX_COUNT: usize = 4096;
+    /// Widest smoothing, pixels (its kernel spans `8 smoothing + 1` pixels).
+    pub const MAX_SMOOTHING: f64 = 64.0;
+
+    /// Checks the options: `count` in `[1, 4096]`, `min_separation` finite and `>= 0`,
+    /// `smoothing` in `[0, 64]` pixels.
     pub fn validated(self) -> Result<Self> {
-        if self.count == 0 {
+        if !(1..=Self::MAX_COUNT).contains(&self.count) {
             return Err(Error::InvalidOption {
                 name: "peaks",
-                reason: "must be >= 1".into(),
+                reason: format!("must be in [1, {}], got {}", Self::MAX_COUNT, self.count),
             });
         }
         if !(self.min_separation.is_finite() && self.min_separation >= 0.0) {
@@ -50,10 +56,14 @@ impl PeakOptions {
                 reason: format!("must be finite and >= 0, got {}", self.min_separation),
             });
         }
-        if !(self.smoothing.is_finite() && self.smoothing >= 0.0) {
+        if !(self.smoothing.is_finite() && (0.0..=Self::MAX_SMOOTHING).contains(&self.smoothing)) {
             return Err(Error::InvalidOption {
                 name: "smoothing",
-                reason: format!("must be finite and >= 0, got {}", self.smoothing),
+                reason: format!(
+                    "must be in [0, {}] pixels, got {}",
+                    Self::MAX_SMOOTHING,
+                    self.smoothing
+                ),
             });
         }
         Ok(self)
