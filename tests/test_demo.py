@@ -434,9 +434,6 @@ def test_evaluate_counts():
     assert m.true_in_class == {"match": 1, "borderline": 1, "non-match": 1}
     assert m.true_not_candidates == 3
     assert m.fp_with_false_track == 1 and m.same_source_matches == 1
-    # ais-1/a-1 scored 0.6 (borderline): demoted only if the match threshold was <= 0.6
-    assert evaluate(tracks, pairs, upper=0.55).fn_demoted == 1
-    assert evaluate(tracks, pairs, upper=0.8).fn_demoted == 0
     bs = m.by_sources.set_index("sources")
     assert bs.loc["ais-radar", "true_pairs"] == 3 and bs.loc["ais-radar", "tp"] == 1
     objects = pd.DataFrame(
@@ -491,6 +488,7 @@ def short_demo():
         minutes=10,
         scores=["glr", "overlap"],
         combines=["chi2", "geometric"],
+        operator=(0, 10, 20),
         progress=False,
     )
 
@@ -500,16 +498,35 @@ def test_pipeline_outputs(short_demo, tmp_path):
 
     res = short_demo
     table = res.metrics_table()
-    # the default (the engine's defaults), then each score with the default rule, each rule
-    # with the default score
+    # the default (the engine's defaults) once, then each further score with the default rule,
+    # each further rule with the default score
     assert list(zip(table["score"], table["combine"], strict=True)) == [
-        ("glr", "chi2"),
         ("glr", "chi2"),
         ("overlap", "chi2"),
         ("glr", "geometric"),
     ]
     written = write_outputs(res, tmp_path / "out")
-    assert {p.name for p in written} >= {"reports.csv", "pairs.csv", "metrics.csv", "map.png"}
+    assert {p.name for p in written} >= {
+        "reports.csv",
+        "pairs.csv",
+        "metrics.csv",
+        "map.png",
+        "calibration.csv",
+        "calibration.png",
+        "operator.csv",
+        "operator.png",
+    }
+    cal = pd.read_csv(tmp_path / "out" / "calibration.csv")
+    assert cal["n"].sum() == len(res.default.pairs)
+    # the expected calibration error recomputed from the table
+    ece = (cal["n"] * (cal["predicted"] - cal["observed"]).abs()).sum() / cal["n"].sum()
+    assert ece == pytest.approx(res.ece, abs=1e-4)
+    op = pd.read_csv(tmp_path / "out" / "operator.csv")
+    assert list(op["decisions"]) == [0, 10, 20] or list(op["decisions"])[0] == 0
+    assert op["f1"].iloc[0] == pytest.approx(res.default.metrics.f1, abs=1e-4)
+    # a truthful operator never makes the association worse
+    assert (op["f1"].diff().fillna(0) >= -1e-9).all()
+    assert (op["false_merges"].diff().fillna(0) <= 0).all()
     pairs = pd.read_csv(tmp_path / "out" / "pairs.csv")
     m = res.default.metrics
     assert int((pairs["true_pair"] & (pairs["class"] == "match")).sum()) == m.tp
@@ -521,9 +538,30 @@ def test_pipeline_outputs(short_demo, tmp_path):
 
 
 def test_calibrated_rule_beats_the_plain_mean(short_demo):
-    # the geometric mean of a long true pair drifts to 1/e, below the 0.5 borderline
-    runs = {(r.score, r.combine): r.metrics for r in short_demo.runs}
-    assert runs[("glr", "chi2")].f1 > runs[("glr", "geometric")].f1 + 0.3
+    # the geometric mean of a long true pair drifts to 1/e, below the 0.5 borderline: on the
+    # score column, true pairs rank above false ones far better with the calibrated rule
+    from geofeas.evaluate import labels
+
+    def separation(run):
+        y = labels(run.pairs, short_demo.tracks)
+        s = run.pairs["score"].to_numpy()
+        return float((s[y] >= 0.5).mean())
+
+    runs = {(r.score, r.combine): r for r in short_demo.runs}
+    assert separation(short_demo.default) > separation(runs[("glr", "geometric")]) + 0.3
+
+
+def test_reliability_table_and_ece_by_hand():
+    from geofeas.evaluate import reliability
+
+    p = np.array([0.05, 0.05, 0.95, 0.95, 0.55, 0.55])
+    y = np.array([0, 0, 1, 0, 1, 1], dtype=bool)
+    table, ece = reliability(p, y, bins=10)
+    assert list(table["n"]) == [2, 2, 2]
+    # |0.05 - 0| * 2 + |0.55 - 1| * 2 + |0.95 - 0.5| * 2, over 6
+    assert ece == pytest.approx((0.1 + 0.9 + 0.9) / 6)
+    with pytest.raises(geofeas.GeofeasError, match="probabilities"):
+        reliability([1.5], [True])
 
 
 @pytest.mark.parametrize("sensors, bound", [("ais,radar", 0.9), ("ais,radar,aircraft,hfdf", 0.7)])
@@ -539,16 +577,13 @@ def test_demo_command_end_to_end(tmp_path, capsys, sensors, bound):
         sensors,
         "--out",
         str(out),
-        "--score",
-        "glr",
-        "--combine",
-        "chi2",
         "--no-progress",
     ]
     assert main(args) == 0
     text = capsys.readouterr().out
     assert "removed 1 row(s): physically impossible jump" in text
-    assert "precision" in text and "per score and combination rule" in text
+    assert "precision" in text and "expected calibration error" in text
+    assert "F1 after truthful decisions" in text
     for name in ("reports.csv", "pairs.csv", "metrics.csv", "metrics_by_sources.csv", "map.png"):
         assert (out / name).stat().st_size > 0
     metrics = pd.read_csv(out / "metrics.csv")

@@ -116,7 +116,6 @@ class Metrics:
     true_not_candidates: int = 0  # true pairs the association never scored
     fp_with_false_track: int = 0  # predicted pairs involving a false track
     same_source_matches: int = 0
-    fn_demoted: int = 0  # true pairs scoring >= upper that the grouping demoted to borderline
     object_precision: float = math.nan  # pairs implied by the grouping into objects
     object_recall: float = math.nan
     object_f1: float = math.nan
@@ -166,7 +165,6 @@ def evaluate(
     *,
     objects: pd.DataFrame | None = None,
     seconds: float = math.nan,
-    upper: float | None = None,
 ) -> Metrics:
     """Precision, recall and F1 of the ``"match"`` pairs of an association.
 
@@ -181,9 +179,6 @@ def evaluate(
         grouping.
     seconds : float, optional
         Time the association took (reported as is).
-    upper : float, optional
-        The association's match threshold: counts the missed true pairs that scored at least
-        ``upper`` but were not accepted (demoted by the grouping), ``Metrics.fn_demoted``.
 
     Returns
     -------
@@ -234,7 +229,6 @@ def evaluate(
         true_not_candidates=len(truth) - sum(true_in_class.values()),
         fp_with_false_track=fp_false,
         same_source_matches=same_matches,
-        fn_demoted=_demoted(keys, cls, pairs, truth, upper),
         seconds=seconds,
         by_sources=_by_sources(tracks, truth, pred),
     )
@@ -247,23 +241,6 @@ def evaluate(
             len(opred & truth), len(opred), len(truth)
         )
     return m
-
-
-def _demoted(
-    keys: list[tuple[str, str]],
-    cls: np.ndarray,
-    pairs: pd.DataFrame,
-    truth: set[tuple[str, str]],
-    upper: float | None,
-) -> int:
-    if upper is None or "score" not in pairs:
-        return 0
-    score = pairs["score"].to_numpy(np.float64)
-    return sum(
-        1
-        for k, c, g in zip(keys, cls, score, strict=True)
-        if c != "match" and g >= upper and k in truth
-    )
 
 
 def _by_sources(
