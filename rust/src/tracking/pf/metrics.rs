@@ -5,8 +5,10 @@
 //! - Correct association: the peak filter `i` took is labelled by the true target nearest to it
 //!   at that frame; the association is correct when that label is `i`. The probability of
 //!   correct association (PCA) is the fraction of correct frames. When noise maxima outrank the
-//!   targets, peaks are scattered over the array and the label is close to chance (about 1/4
-//!   with four targets), which is the floor of the paper's Fig. 19.
+//!   targets, filter `i` takes the noise maximum nearest to its own estimate, and a point near
+//!   filter `i` is more often nearest to target `i` than to the others: in the paper's geometry
+//!   this floors the PCA at about 0.54 (measured at 0-2 dB, `docs/pf-study.md`), not at the
+//!   1/4 of a label drawn at random among four targets.
 //! - Hit: stricter, the peak is also within `HIT_RADIUS` (3 pixels) of the filter's own
 //!   target, i.e. it is that target's image rather than a noise maximum; its floor is 0.
 //! - 2-sigma coverage: the fraction of (frame, axis) pairs with `|error| <= 2 sqrt(P)`; about
