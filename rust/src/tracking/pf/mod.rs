@@ -63,5 +63,5 @@ pub use peaks::{find_peaks, Peak, PeakOptions};
 pub use resample::Resampling;
 pub use run::{track_run, RunSpec};
 pub use scenario::{Scenario, TargetStart, Truth, TruthModel, TruthState};
-pub use study::{paper_cells, study, Cell, CellResult, StudyOptions};
+pub use study::{bootstrap, paper_cells, study, Cell, CellResult, StudyOptions};
 pub use weights::LikelihoodModel;
