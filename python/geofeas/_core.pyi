@@ -1,6 +1,6 @@
 """Typed stub of the Rust extension module ``geofeas._core``."""
 
-from typing import Any
+from typing import Any, final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -116,7 +116,7 @@ def mht_simulate_run(
     detection_probability: float = 1.0,
     new_target_rate: float = 0.02,
     confirm_probability: float = 0.0,
-    accel_sigma: float = 19.6133,
+    accel_sigma: float = ...,
 ) -> dict[str, Any]: ...
 def mht_study(
     *,
@@ -127,7 +127,7 @@ def mht_study(
     new_target_rate: float = 0.02,
     detection_probability: float = 1.0,
     confirm_probability: float = 0.0,
-    accel_sigma: float = 19.6133,
+    accel_sigma: float = ...,
     paper_ekf_iterations: int = 0,
     paper_new_target_rate: float = 1e-8,
     paper_confirm_probability: float = 0.0,
@@ -141,9 +141,10 @@ def mht_study(
 def mht_metric_names() -> list[str]: ...
 def mht_tracker_names() -> list[str]: ...
 
+@final
 class MhtTracker:
-    def __init__(
-        self,
+    def __new__(
+        cls,
         sensors: NDArray[np.float64],
         *,
         max_hypotheses: int = 50,
@@ -158,7 +159,7 @@ class MhtTracker:
         max_speed: float = 15.0,
         ekf_iterations: int = 2,
         single: bool = False,
-    ) -> None: ...
+    ) -> MhtTracker: ...
     def process_scan(self, time: float, sensor: int, detections: NDArray[np.float64]) -> int: ...
     @property
     def scans(self) -> int: ...
