@@ -240,7 +240,11 @@ def test_cli_writes_the_contract_files(tmp_path):
     assert (out / "comparison.md").read_text().count("|") > 50
     with open(out / "summary.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    assert {"runs", "held", "held_lo", "held_hi", "rmse_px_lo"} <= set(rows[0])
+    assert {"runs", "held", "held_lo", "held_hi", "rmse_px_lo", "gospa", "id_switches"} <= set(
+        rows[0]
+    )
+    # GOSPA with four targets and four filters (c = 5, p = 2): between 0 and sqrt(4 c^2) = 10.
+    assert all(0.0 <= float(r["gospa"]) <= 10.0 + 1e-9 for r in rows)
     assert {r["runs"] for r in rows} == {"2"}
     assert not [p for p in out.iterdir() if p.name.startswith(".")]
 

@@ -66,6 +66,18 @@ def _csv(path: Path, header: list[str], rows: list[list[Any]]) -> None:
 #: (``<name>_lo``, ``<name>_hi``).
 METRICS = ("pca", "hit", "rmse_px", "coverage", "held")
 
+#: Multi-target measures of the bank (point estimates): GOSPA (cut-off 5 px, order 2), its
+#: localisation part and missed / false counts per frame, identity switches and fragmentations
+#: per run.
+BANK_METRICS = (
+    "gospa",
+    "gospa_loc",
+    "gospa_missed",
+    "gospa_false",
+    "id_switches",
+    "fragmentations",
+)
+
 
 def _with_ci(res: dict[str, Any], k: int, names: tuple[str, ...]) -> list[str]:
     return [_fmt(float(res[f"{c}{s}"][k])) for c in names for s in ("", "_lo", "_hi")]
@@ -99,12 +111,13 @@ def write_csvs(res: dict[str, Any], out: Path) -> None:
     )
     _csv(
         out / "summary.csv",
-        ["method", "snr_db", "xmax", "vmax", "runs"] + _ci_header(METRICS),
+        ["method", "snr_db", "xmax", "vmax", "runs"] + _ci_header(METRICS) + list(BANK_METRICS),
         [
             [int(res["method"][k])]
             + [f"{res[c][k]:g}" for c in ("snr_db", "xmax", "vmax")]
             + [int(res["_runs"])]
             + _with_ci(res, k, METRICS)
+            + [_fmt(float(res[c][k])) for c in BANK_METRICS]
             for k in range(n)
         ],
     )
@@ -154,6 +167,30 @@ def comparison_markdown(res: dict[str, Any], note: str) -> str:
             f"{cell(1, snr, 'hit')} | {cell(2, snr, 'rmse_px')} | "
             f"{cell(1, snr, 'rmse_px')} | {cell(2, snr, 'held')} | {cell(1, snr, 'held')} |"
         )
+    lines += [
+        "",
+        "GOSPA (cut-off 5 px, order 2) between the true positions and the four filters' "
+        "estimates, mean per frame, with the missed / false targets per frame, and identity "
+        "switches and fragmentations per run:",
+        "",
+        "| SNR [dB] | GOSPA M2 [px] | GOSPA M1 [px] | missed M2 | missed M1 | ID switches M2 "
+        "| ID switches M1 | fragmentations M2 | fragmentations M1 |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+
+    def plain(method: int, snr: float, key: str) -> str:
+        try:
+            return _fmt(float(res[key][_row(res, method, snr)]))
+        except KeyError:
+            return "-"
+
+    for snr in (0.0, 2.0, 6.0, 9.0, 12.0, 15.0, 20.0):
+        cells = [
+            plain(m, snr, key)
+            for key in ("gospa", "gospa_missed", "id_switches", "fragmentations")
+            for m in (2, 1)
+        ]
+        lines.append(f"| {snr:g} | " + " | ".join(cells) + " |")
     n = len(res["method"])
     lines += [
         "",

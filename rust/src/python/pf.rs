@@ -670,6 +670,19 @@ fn pf_study<'py>(
     out.set_item("held", col(&|r| r.all.held).into_pyarray(py))?;
     for (name, f) in [
         (
+            "gospa",
+            (|m| m.gospa) as fn(&crate::tracking::pf::BankMetrics) -> f64,
+        ),
+        ("gospa_loc", |m| m.gospa_loc),
+        ("gospa_missed", |m| m.gospa_missed),
+        ("gospa_false", |m| m.gospa_false),
+        ("id_switches", |m| m.id_switches),
+        ("fragmentations", |m| m.fragmentations),
+    ] {
+        out.set_item(name, col(&|r| f(&r.bank)).into_pyarray(py))?;
+    }
+    for (name, f) in [
+        (
             "pca",
             (|m| m.pca) as fn(&crate::tracking::pf::FilterMetrics) -> f64,
         ),

@@ -57,7 +57,7 @@ pub use association::{weighted_distances, Association};
 pub use bank::{Bank, Method, PfConfig, Step, StepRecord};
 pub use filter::{Estimate, ParticleFilter};
 pub use frame::{noise_sigma, Frame, Psf};
-pub use metrics::{peak_label, FilterMetrics, FilterTally};
+pub use metrics::{peak_label, BankMetrics, BankTally, FilterMetrics, FilterTally};
 pub use motion::{Ncv, Particles};
 pub use peaks::{find_peaks, Peak, PeakOptions};
 pub use resample::Resampling;

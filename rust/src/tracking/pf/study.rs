@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use crate::error::{Error, Result};
 use crate::tracking::pf::association::Association;
 use crate::tracking::pf::bank::{Method, PfConfig};
-use crate::tracking::pf::metrics::{pooled, FilterMetrics, FilterTally};
+use crate::tracking::pf::metrics::{pooled, BankMetrics, BankTally, FilterMetrics, FilterTally};
 use crate::tracking::pf::peaks::PeakOptions;
 use crate::tracking::pf::resample::Resampling;
 use crate::tracking::pf::run::{track_run, RunSpec};
@@ -85,6 +85,8 @@ pub struct CellResult {
     pub lo: FilterMetrics,
     /// Upper end of the same interval.
     pub hi: FilterMetrics,
+    /// GOSPA and identity measures of the bank.
+    pub bank: BankMetrics,
 }
 
 /// Resamples drawn by [`bootstrap`] in [`study`].
@@ -229,12 +231,13 @@ pub fn study(
     let mut tallies = vec![vec![FilterTally::default(); targets]; cells.len()];
     // Per cell, each run's tally pooled over the filters, in run order.
     let mut per_run: Vec<Vec<FilterTally>> = vec![Vec::with_capacity(opts.runs); cells.len()];
+    let mut banks = vec![BankTally::default(); cells.len()];
     let batch = 4 * rayon::current_num_threads();
     for chunk in jobs.chunks(batch) {
         if interrupt() {
             return Err(Error::Interrupted);
         }
-        let out: Vec<Vec<Vec<FilterTally>>> = chunk
+        let out: Vec<(Vec<Vec<FilterTally>>, Vec<BankTally>)> = chunk
             .par_iter()
             .map(|&(g, r)| {
                 let (snr, _, _, ref members) = groups[g];
@@ -247,6 +250,7 @@ pub fn study(
                     .map(|&c| cell_config(&cells[c], &spec, opts))
                     .collect();
                 let mut t = vec![vec![FilterTally::default(); targets]; members.len()];
+                let mut bt = vec![BankTally::default(); members.len()];
                 let truth_states = spec.truth();
                 track_run(
                     &spec,
@@ -255,16 +259,21 @@ pub fn study(
                         for (i, ti) in t[b].iter_mut().enumerate() {
                             ti.observe(i, step, &truth_states.states[k]);
                         }
+                        bt[b].observe(step, &truth_states.states[k]);
                     },
                     &mut || false,
                 )?;
                 for tb in &mut t {
                     tb.iter_mut().for_each(FilterTally::finish_run);
                 }
-                Ok(t)
+                bt.iter_mut().for_each(BankTally::finish_run);
+                Ok((t, bt))
             })
             .collect::<Result<_>>()?;
-        for (&(g, _), t) in chunk.iter().zip(out) {
+        for (&(g, _), (t, bt)) in chunk.iter().zip(out) {
+            for (&c, b) in groups[g].3.iter().zip(&bt) {
+                banks[c].merge(b);
+            }
             for (&c, tc) in groups[g].3.iter().zip(t) {
                 for (acc, x) in tallies[c].iter_mut().zip(&tc) {
                     acc.merge(x);
@@ -279,6 +288,7 @@ pub fn study(
         .zip(&per_run)
         .enumerate()
         .map(|(c, ((cell, t), runs))| {
+            let bank = banks[c].metrics();
             let (lo, hi) = bootstrap(runs, BOOTSTRAP_RESAMPLES, opts.seed ^ c as u64);
             CellResult {
                 cell: *cell,
@@ -286,6 +296,7 @@ pub fn study(
                 filters: t.iter().map(FilterTally::metrics).collect(),
                 lo,
                 hi,
+                bank,
             }
         })
         .collect())
