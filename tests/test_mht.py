@@ -16,13 +16,18 @@ import geofeas
 from geofeas import GeofeasError
 from geofeas.cli import main
 from geofeas.tracking import (
+    ESTIMATE_COLUMNS,
+    METRICS,
     PAPER_TABLE_1,
     STUDY_COLUMNS,
+    TRACKERS,
+    MhtTracker,
     paper_sensors,
     simulate_run,
     study,
     track,
     track_ellipses,
+    track_scans,
     trilaterate,
 )
 
@@ -204,7 +209,7 @@ def test_simulate_run_is_seeded_and_consistent() -> None:
     assert det.shape == ((41 + 34 + 29) * 4, 6)
     assert set(np.unique(det[:, 4])) == {-1.0, 0.0, 1.0}
     m = a["metrics"]
-    assert set(m) == {"t_pd", "t_far", "pos_err", "vel_err"}
+    assert list(m) == list(METRICS)
     assert 0.0 <= m["t_pd"] <= 1.0
     truth = a["truth"]
     speeds = np.hypot(truth[:, 4], truth[:, 5])
@@ -243,25 +248,36 @@ def test_track_ellipses_feed_the_geofeasibility_scores(rng: np.random.Generator)
 
 
 def test_study_columns_and_reproducibility() -> None:
-    a = study(runs=2, seed=3, max_hypotheses=10)
-    b = study(runs=2, seed=3, max_hypotheses=10)
+    kw = dict(runs=2, seed=3, max_hypotheses=10, one_target=(0, 2), two_targets=(1,), resamples=50)
+    a = study(**kw)
+    b = study(**kw)
     assert tuple(a) == STUDY_COLUMNS
-    assert len(a["tracker"]) == 40
+    assert set(METRICS) <= set(STUDY_COLUMNS) and "gospa" in METRICS and "id_switches" in METRICS
+    # 3 trackers x 2 layouts x 3 false-alarm columns.
+    assert len(a["tracker"]) == 18
     for k in STUDY_COLUMNS:
         np.testing.assert_array_equal(np.asarray(a[k]), np.asarray(b[k]))
-    assert set(a["tracker"]) == {"mht", "single"}
+    assert set(a["tracker"]) == set(TRACKERS) == {"mht", "mht-paper", "single"}
+    # Every interval brackets its estimate.
+    for m in ("t_pd", "t_far", "gospa"):
+        v, lo, hi = (np.asarray(a[k], dtype=float) for k in (m, f"{m}_lo", f"{m}_hi"))
+        ok = ~np.isnan(v)
+        assert np.all(lo[ok] <= v[ok] + 1e-12) and np.all(v[ok] <= hi[ok] + 1e-12)
     with pytest.raises(GeofeasError, match="runs"):
         study(runs=0)
+    with pytest.raises(GeofeasError, match="tracker"):
+        study(runs=1, trackers=("mht", "jpda"))
 
 
 def test_mht_study_command_writes_the_contract(tmp_path) -> None:
     out = tmp_path / "study"
-    assert main(["mht-study", "--out", str(out), "--runs", "2", "--seed", "1"]) == 0
+    args = ["mht-study", "--out", str(out), "--runs", "2", "--seed", "1", "--resamples", "20"]
+    assert main(args + ["--one-target", "0,1,2,4,6", "--two-targets", "1"]) == 0
     with open(out / "tables.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
     assert list(rows[0]) == list(STUDY_COLUMNS)
-    assert len(rows) == 40
-    assert {r["tracker"] for r in rows} == {"mht", "single"}
+    assert len(rows) == 3 * 2 * 6
+    assert {r["tracker"] for r in rows} == {"mht", "mht-paper", "single"}
     assert {r["sensors"] for r in rows} == {"2", "3"}
     one = sorted(
         int(r["false_alarms"])
@@ -277,7 +293,94 @@ def test_mht_study_command_writes_the_contract(tmp_path) -> None:
         "comparison.md",
     ]:
         assert (out / name).stat().st_size > 0
+    # No temporary files are left beside the outputs.
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]
     assert main(["mht-study", "--out", str(out), "--runs", "0"]) == 2
+
+
+def test_scan_stream_charges_empty_scans_with_reid_s_probabilities() -> None:
+    # Reid's hypothesis probabilities written out by hand: after one detection, "new track" vs
+    # "false alarm" weigh beta_NT : beta_FA; an empty scan of a sensor that could see the track
+    # multiplies the track hypothesis by 1 - P_D.
+    fa, nt, pd = 1e-3, 4e-4, 0.8
+    mht = MhtTracker(paper_sensors(2), pd=pd, false_alarm_density=fa, new_target_density=nt)
+    assert mht.process_scan(0.0, 0, np.array([[25.0, 1.0]])) == 0
+    (p0, _, ids0), (p1, _, ids1) = mht.hypotheses(top=2)
+    assert ids0 == [] and ids1 == [0]
+    assert p1 / p0 == pytest.approx(nt / fa, rel=1e-12)
+    assert mht.process_scan(0.5, 1, np.empty((0, 2))) == 1
+    (q0, _, _), (q1, _, _) = mht.hypotheses(top=2)
+    assert q1 / q0 == pytest.approx(nt / fa * (1 - pd), rel=1e-12)
+    assert mht.scans == 2
+    # An empty list of detections is an empty scan too.
+    mht.process_scan(1.0, 1, [])
+    (r0, _, _), (r1, _, _) = mht.hypotheses(top=2)
+    assert r1 / r0 == pytest.approx(nt / fa * (1 - pd) ** 2, rel=1e-12)
+    with pytest.raises(GeofeasError, match="time order"):
+        mht.process_scan(0.2, 0, np.empty((0, 2)))
+    with pytest.raises(GeofeasError, match="detections"):
+        mht.process_scan(2.0, 0, np.zeros((3, 3)))
+    with pytest.raises(GeofeasError, match="sensor"):
+        mht.process_scan(2.0, 5, np.zeros((0, 2)))
+    with pytest.raises(GeofeasError, match="rank"):
+        mht.estimates(rank=99)
+    with pytest.raises(GeofeasError, match="bogus"):
+        MhtTracker(paper_sensors(2), bogus=1)
+
+
+def _scans_of(run: dict) -> list[tuple[float, int, np.ndarray]]:
+    """The scans of a simulated run, empty ones included, from its detection rows."""
+    det = run["detections"]
+    periods = (0.5, 0.6, 0.7) if len(run["sensors"]) == 3 else (0.5, 0.7)
+    scans = []
+    for s, period in enumerate(periods):
+        for k in range(int(20.0 / period + 1e-9) + 1):
+            scans.append((k * period, s))
+    scans.sort()
+    out = []
+    for t, s in scans:
+        rows = det[(np.abs(det[:, 0] - t) < 1e-9) & (det[:, 1] == s)][:, 2:4]
+        out.append((t, s, rows))
+    return out
+
+
+def test_track_scans_agrees_with_batch_tracking_and_reports_top_hypotheses() -> None:
+    run = simulate_run(targets=2, sensors=3, false_alarms=1, seed=4)
+    scans = _scans_of(run)
+    assert sum(len(r) for _, _, r in scans) == len(run["detections"])
+    res = track_scans(scans, paper_sensors(3), top=3)
+    assert res["estimates"].shape[1] == 1 + len(ESTIMATE_COLUMNS)
+    # Same data, same tracker: the final assignment of detections equals the batch run's.
+    np.testing.assert_array_equal(
+        res["track_of_detection"], run["detections"][:, 5].astype(np.int64)
+    )
+    top = res["top"]
+    assert top.shape[1] == 3 and set(np.unique(top[:, 1])) <= {0.0, 1.0, 2.0}
+    for scan in np.unique(top[:, 0]):
+        p = top[top[:, 0] == scan, 2]
+        assert np.all(np.diff(p) <= 0) and p.sum() <= 1 + 1e-12
+    probs = [p for p, _, _ in res["hypotheses"]]
+    assert len(probs) == 3 and probs == sorted(probs, reverse=True)
+    # Per-scan estimates of the best hypothesis end near the two targets.
+    last = res["estimates"][res["estimates"][:, 0] == len(scans) - 1]
+    truth = run["truth"][np.isclose(run["truth"][:, 1], 20.0)]
+    for target in truth:
+        d = np.hypot(last[:, 3] - target[2], last[:, 4] - target[3]).min()
+        assert d < 1.5, d
+    # With a false alarm per scan no scan is empty; empty scans are the next test's.
+    assert all(len(r) for _, _, r in scans)
+
+
+def test_empty_scans_matter_on_user_data() -> None:
+    run = simulate_run(targets=1, sensors=3, false_alarms=0, seed=5, detection_probability=0.6)
+    scans = _scans_of(run)
+    empty = sum(1 for _, _, r in scans if len(r) == 0)
+    assert empty > 5
+    with_empty = track_scans(scans, paper_sensors(3), top=2)
+    without = track_scans([s for s in scans if len(s[2])], paper_sensors(3), top=2)
+    # The missed-detection charges change the hypothesis probabilities.
+    assert with_empty["hypotheses"][0][0] != pytest.approx(without["hypotheses"][0][0])
+    assert len(with_empty["top"]) > len(without["top"])
 
 
 @pytest.mark.parametrize("targets", [1, 2])
@@ -305,3 +408,71 @@ def test_detection_probability_is_configurable() -> None:
     assert 0.0 <= some["metrics"]["t_pd"] <= 1.0
     with pytest.raises(GeofeasError, match="pd"):
         simulate_run(detection_probability=1.5)
+
+
+def test_stonesoup_adapter_tracks_stone_soup_detections() -> None:
+    pytest.importorskip("stonesoup")
+    from datetime import datetime, timedelta
+
+    from stonesoup.types.detection import Clutter, TrueDetection
+    from stonesoup.types.groundtruth import GroundTruthPath, GroundTruthState
+    from stonesoup.types.track import Track
+
+    from geofeas.tracking.stonesoup import MhtStoneSoupTracker
+
+    run = simulate_run(targets=2, sensors=3, false_alarms=2, seed=6)
+    epoch = datetime(2026, 1, 1)
+    paths = {k: GroundTruthPath(id=f"target-{k}") for k in (0, 1)}
+    for row in run["truth"]:
+        paths[int(row[0])].append(
+            GroundTruthState(
+                [row[2], row[4], row[3], row[5]], timestamp=epoch + timedelta(seconds=row[1])
+            )
+        )
+    # Stone Soup detections: TrueDetection for targets, Clutter for false alarms, one set per time.
+    by_time: dict[float, set] = {}
+    for t, s, r, rr, target, _ in run["detections"]:
+        when = epoch + timedelta(seconds=float(t))
+        meta = {"sensor": int(s)}
+        if target >= 0:
+            det = TrueDetection(
+                [[r], [rr]], timestamp=when, metadata=meta, groundtruth_path=paths[int(target)]
+            )
+        else:
+            det = Clutter([[r], [rr]], timestamp=when, metadata=meta)
+        by_time.setdefault(float(t), set()).add(det)
+    detector = [(epoch + timedelta(seconds=t), by_time[t]) for t in sorted(by_time)]
+    tracker = MhtStoneSoupTracker(detector, paper_sensors(3))
+    seen: dict[str, Track] = {}
+    for time, tracks in tracker:
+        for tr in tracks:
+            assert isinstance(tr, Track) and tr.id.startswith("mht-")
+            assert tr.timestamp == time
+            seen.setdefault(tr.id, tr)
+            assert seen[tr.id] is tr  # the same Track object grows
+    final = tracker.tracks
+    assert len(final) >= 2
+    # Each target has a final track within 1.5 m, with a symmetric positive definite covariance
+    # in Stone Soup's [x, vx, y, vy] order.
+    for path in paths.values():
+        gt = path[-1]
+        best = min(
+            final,
+            key=lambda tr: np.hypot(
+                tr.state_vector[0] - gt.state_vector[0], tr.state_vector[2] - gt.state_vector[2]
+            ),
+        )
+        sv = np.asarray(best.state_vector, dtype=float).ravel()
+        assert np.hypot(sv[0] - gt.state_vector[0], sv[2] - gt.state_vector[2]) < 1.5
+        cov = np.asarray(best.state.covar, dtype=float)
+        assert np.allclose(cov, cov.T) and np.all(np.linalg.eigvalsh(cov) > 0)
+    # The adapter's tracks are the core tracker's best-hypothesis estimates, reordered.
+    est = tracker.tracker.estimates()
+    for row in est:
+        tr = next(t for t in final if t.id == f"mht-{int(row[0])}")
+        np.testing.assert_allclose(
+            np.asarray(tr.state_vector, dtype=float).ravel(), [row[2], row[4], row[3], row[5]]
+        )
+    bad = [(epoch, {Clutter([[1.0], [0.0]], timestamp=epoch, metadata={})})]
+    with pytest.raises(GeofeasError, match="sensor"):
+        list(MhtStoneSoupTracker(bad, paper_sensors(3)))

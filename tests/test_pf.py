@@ -217,12 +217,16 @@ def test_resampling_schemes_all_track():
 def test_cli_writes_the_contract_files(tmp_path):
     out = tmp_path / "pf"
     assert (
-        main(["pf-study", "--out", str(out), "--runs", "1", "--particles", "200", "--no-figures"])
+        main(["pf-study", "--out", str(out), "--runs", "2", "--particles", "200", "--no-figures"])
         == 0
     )
     with open(out / "pca_vs_snr.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    assert list(rows[0]) == ["method", "snr_db", "pca"]
+    assert list(rows[0]) == ["method", "snr_db", "pca", "pca_lo", "pca_hi"]
+    # Every bootstrap interval brackets its estimate.
+    assert all(
+        float(r["pca_lo"]) <= float(r["pca"]) + 1e-12 <= float(r["pca_hi"]) + 2e-12 for r in rows
+    )
     assert {(r["method"], float(r["snr_db"])) for r in rows} == {
         (m, float(s)) for m in ("1", "2") for s in range(21)
     }
@@ -234,6 +238,15 @@ def test_cli_writes_the_contract_files(tmp_path):
         (m, s, f) for m in ("1", "2") for s in (2.0, 6.0, 15.0) for f in ("1", "2", "3", "4")
     }
     assert (out / "comparison.md").read_text().count("|") > 50
+    with open(out / "summary.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert {"runs", "held", "held_lo", "held_hi", "rmse_px_lo", "gospa", "id_switches"} <= set(
+        rows[0]
+    )
+    # GOSPA with four targets and four filters (c = 5, p = 2): between 0 and sqrt(4 c^2) = 10.
+    assert all(0.0 <= float(r["gospa"]) <= 10.0 + 1e-9 for r in rows)
+    assert {r["runs"] for r in rows} == {"2"}
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]
 
 
 def test_resampling_threshold():

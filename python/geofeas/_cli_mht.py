@@ -11,14 +11,23 @@ from __future__ import annotations
 
 import argparse
 import csv
+import io
 import math
 import sys
 import time
 from pathlib import Path
 from typing import Any
 
-from ._atomic import atomic_open, save_figure, write_text
-from .tracking import PAPER_TABLE_1, PAPER_TABLE_2, STUDY_COLUMNS, plot_run, simulate_run, study
+from ._atomic import save_figure, write_text
+from .tracking import (
+    PAPER_TABLE_1,
+    PAPER_TABLE_2,
+    STUDY_COLUMNS,
+    TRACKERS,
+    plot_run,
+    simulate_run,
+    study,
+)
 
 
 def _fmt(v: Any) -> str:
@@ -28,43 +37,66 @@ def _fmt(v: Any) -> str:
 
 
 def write_tables(rows: list[dict[str, Any]], path: Path) -> None:
-    with atomic_open(path, "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(STUDY_COLUMNS)
-        for r in rows:
-            w.writerow([_fmt(r[c]) for c in STUDY_COLUMNS])
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(STUDY_COLUMNS)
+    for r in rows:
+        w.writerow([_fmt(r[c]) for c in STUDY_COLUMNS])
+    write_text(path, buf.getvalue())
+
+
+#: Rows of the comparison tables: metric, label, digits, index in the paper's tables (or None).
+_TABLE_ROWS = (
+    ("t_pd", "T_PD", 2, 0),
+    ("t_far", "T_FAR [1/s]", 2, 1),
+    ("pos_err", "pos err [m]", 2, 2),
+    ("vel_err", "vel err [m/s]", 2, 3),
+    ("speed_err", "speed err [m/s]", 2, None),
+    ("gospa", "GOSPA [m]", 2, None),
+    ("gospa_missed", "GOSPA missed / output", 2, None),
+    ("gospa_false", "GOSPA false / output", 2, None),
+    ("id_switches", "ID switches / run", 2, None),
+    ("fragmentations", "fragmentations / run", 2, None),
+)
 
 
 def comparison_markdown(rows: list[dict[str, Any]], runs: int, seed: int, note: str = "") -> str:
-    def cell(v: float, digits: int) -> str:
-        return "-" if math.isnan(v) else f"{v:.{digits}f}"
+    def cell(r: dict[str, Any], key: str, digits: int) -> str:
+        v, lo, hi = (float(r[key]), float(r[f"{key}_lo"]), float(r[f"{key}_hi"]))
+        if math.isnan(v):
+            return "-"
+        if math.isnan(lo) or math.isnan(hi):
+            return f"{v:.{digits}f}"
+        return f"{v:.{digits}f} [{lo:.{digits}f}, {hi:.{digits}f}]"
 
-    out = [f"Reproduction with {runs} runs per column (seed {seed}{note}); paper / geofeas.\n"]
+    trackers = [t for t in TRACKERS if any(r["tracker"] == t for r in rows)]
+    out = [
+        f"{runs} runs per column (seed {seed}{note}); value [95% percentile-bootstrap interval "
+        "over runs]. The paper's rows are its Tables 1 and 2 (MHT, three sensors).\n"
+    ]
     for targets, paper, title in ((1, PAPER_TABLE_1, "Table 1"), (2, PAPER_TABLE_2, "Table 2")):
         for sensors in (3, 2):
-            out.append(f"\n### {title}: {targets} target(s), {sensors} sensors\n")
             sel = {
                 (r["tracker"], r["false_alarms"]): r
                 for r in rows
                 if r["targets"] == targets and r["sensors"] == sensors
             }
+            if not sel:
+                continue
+            out.append(f"\n### {title}: {targets} target(s), {sensors} sensors\n")
             fas = sorted({fa for (_, fa) in sel})
-            out.append("| metric | " + " | ".join(f"{fa} FA" for fa in fas) + " |")
-            out.append("|---|" + "---|" * len(fas))
-            for k, (name, digits) in enumerate(
-                [("T_PD", 2), ("T_FAR [1/s]", 2), ("pos err [m]", 2), ("vel err [m/s]", 2)]
-            ):
-                key = STUDY_COLUMNS[4 + k]
-                for tracker in ("mht", "single"):
-                    vals = []
-                    for fa in fas:
-                        ours = cell(float(sel[(tracker, fa)][key]), digits)
-                        if tracker == "mht" and sensors == 3 and fa in paper:
-                            vals.append(f"{paper[fa][k]:g} / {ours}")
-                        else:
-                            vals.append(ours)
-                    label = f"{name} ({'MHT' if tracker == 'mht' else 'single'})"
-                    out.append(f"| {label} | " + " | ".join(vals) + " |")
+            out.append("| metric | tracker | " + " | ".join(f"{fa} FA" for fa in fas) + " |")
+            out.append("|---|---|" + "---|" * len(fas))
+            for key, name, digits, k in _TABLE_ROWS:
+                if k is not None and sensors == 3:
+                    vals = [f"{paper[fa][k]:g}" if fa in paper else "" for fa in fas]
+                    out.append(f"| {name} | paper | " + " | ".join(vals) + " |")
+                for tracker in trackers:
+                    vals = [
+                        cell(sel[(tracker, fa)], key, digits) if (tracker, fa) in sel else ""
+                        for fa in fas
+                    ]
+                    out.append(f"| {name} | {tracker} | " + " | ".join(vals) + " |")
     return "\n".join(out) + "\n"
 
 
@@ -88,6 +120,8 @@ def plot_trends(rows: list[dict[str, Any]], path: Path) -> None:
             for tracker, sensors, style in (
                 ("mht", 3, "o-"),
                 ("mht", 2, "s-"),
+                ("mht-paper", 3, "o-."),
+                ("mht-paper", 2, "s-."),
                 ("single", 3, "o--"),
                 ("single", 2, "s--"),
             ):
@@ -98,6 +132,8 @@ def plot_trends(rows: list[dict[str, Any]], path: Path) -> None:
                     and r["sensors"] == sensors
                     and r["tracker"] == tracker
                 )
+                if not sel:
+                    continue
                 ax.plot(
                     [a for a, _ in sel],
                     [b for _, b in sel],
@@ -118,6 +154,25 @@ def plot_trends(rows: list[dict[str, Any]], path: Path) -> None:
     plt.close(fig)
 
 
+def _ints(text: str) -> list[int]:
+    try:
+        return [int(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected comma-separated integers, got {text!r}"
+        ) from None
+
+
+def _trackers(text: str) -> list[str]:
+    names = [v.strip() for v in text.split(",") if v.strip()]
+    bad = [n for n in names if n not in TRACKERS]
+    if bad or not names:
+        raise argparse.ArgumentTypeError(
+            f"expected trackers among {', '.join(TRACKERS)}, got {text!r}"
+        )
+    return names
+
+
 def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -129,19 +184,35 @@ def run(args: argparse.Namespace) -> int:
         ekf_iterations=args.ekf_iterations,
         new_target_rate=args.new_target_rate,
         detection_probability=args.detection_probability,
+        confirm_probability=args.confirm_probability,
+        accel_sigma=args.accel_sigma,
+        paper_ekf_iterations=args.paper_ekf_iterations,
+        paper_new_target_rate=args.paper_new_target_rate,
+        paper_confirm_probability=args.paper_confirm_probability,
+        paper_accel_sigma=args.paper_accel_sigma,
+        trackers=args.trackers,
+        one_target=args.one_target,
+        two_targets=args.two_targets,
+        resamples=args.resamples,
     )
     elapsed = time.perf_counter() - t0
     rows = [{c: res[c][i] for c in STUDY_COLUMNS} for i in range(len(res["tracker"]))]
     for r in rows:
-        for c in ("targets", "sensors", "false_alarms"):
-            r[c] = int(r[c])
-        for c in ("t_pd", "t_far", "pos_err", "vel_err"):
-            r[c] = float(r[c])
+        for c in STUDY_COLUMNS:
+            if c in ("targets", "sensors", "false_alarms", "runs"):
+                r[c] = int(r[c])
+            elif c != "tracker":
+                r[c] = float(r[c])
     write_tables(rows, out / "tables.csv")
     note = (
-        f", {args.max_hypotheses} hypotheses, {args.ekf_iterations} EKF relinearisations, "
-        f"new-target rate {args.new_target_rate:g}, detection probability "
-        f"{args.detection_probability:g}"
+        f"; mht: {args.ekf_iterations} EKF relinearisations, new-target rate "
+        f"{args.new_target_rate:g}, confirmation {args.confirm_probability:g}; mht-paper: "
+        f"{args.paper_ekf_iterations} relinearisations, new-target rate "
+        f"{args.paper_new_target_rate:g}, confirmation {args.paper_confirm_probability:g}, "
+        f"process noise {args.paper_accel_sigma:.3g} m/s^2; "
+        f"{args.max_hypotheses} hypotheses, process noise of mht and single "
+        f"{args.accel_sigma:.3g} m/s^2, "
+        f"detection probability {args.detection_probability:g}"
     )
     write_text(out / "comparison.md", comparison_markdown(rows, args.runs, args.seed, note))
     print(
@@ -170,6 +241,9 @@ def run(args: argparse.Namespace) -> int:
                 max_hypotheses=args.max_hypotheses,
                 ekf_iterations=args.ekf_iterations,
                 detection_probability=args.detection_probability,
+                new_target_rate=args.new_target_rate,
+                confirm_probability=args.confirm_probability,
+                accel_sigma=args.accel_sigma,
             )
             plot_run(r, out, prefix=f"fig_{tracker}")
         print(f"figures -> {out}", file=sys.stderr)
@@ -186,24 +260,85 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--out", required=True, help="output directory")
     p.add_argument("--runs", type=int, default=100, help="Monte-Carlo runs per column (100)")
     p.add_argument("--seed", type=int, default=0, help="seed of the random streams (0)")
+    p.add_argument(
+        "--trackers",
+        type=_trackers,
+        default=list(TRACKERS),
+        help="comma-separated trackers among mht (recommended), mht-paper (paper-faithful), "
+        "single (baseline); default all three",
+    )
+    p.add_argument(
+        "--one-target",
+        type=_ints,
+        default=[0, 1, 2, 4, 6, 7, 8],
+        help="false alarms per sensor per scan of the one-target columns (0,1,2,4,6,7,8)",
+    )
+    p.add_argument(
+        "--two-targets",
+        type=_ints,
+        default=[0, 1, 2, 3, 4, 6, 8],
+        help="false alarms per sensor per scan of the two-target columns (0,1,2,3,4,6,8)",
+    )
     p.add_argument("--max-hypotheses", type=int, default=50, help="MHT hypotheses kept (50)")
     p.add_argument(
         "--ekf-iterations",
         type=int,
         default=2,
-        help="relinearisations of the Cartesian EKF update (2; 0: the paper's EKF)",
+        help="mht and single: relinearisations of the Cartesian EKF update (2; 0: plain EKF)",
     )
     p.add_argument(
         "--new-target-rate",
         type=float,
         default=0.02,
-        help="expected new targets per scan in a sensor window (0.02)",
+        help="mht and single: expected new targets per scan in a sensor window (0.02)",
+    )
+    p.add_argument(
+        "--confirm-probability",
+        type=float,
+        default=0.0,
+        help="mht and single: confirmation stage, probability over the kept hypotheses a track "
+        "must reach before it counts (0: none)",
+    )
+    p.add_argument(
+        "--paper-ekf-iterations",
+        type=int,
+        default=0,
+        help="mht-paper: relinearisations of the Cartesian EKF update (0: the paper's EKF)",
+    )
+    p.add_argument(
+        "--paper-new-target-rate",
+        type=float,
+        default=1e-8,
+        help="mht-paper: expected new targets per scan in a sensor window (1e-8)",
+    )
+    p.add_argument(
+        "--paper-confirm-probability",
+        type=float,
+        default=0.0,
+        help="mht-paper: confirmation stage probability (0: none)",
+    )
+    p.add_argument(
+        "--paper-accel-sigma",
+        type=float,
+        default=math.sqrt(4.0 * 9.80665),
+        help="mht-paper: white-acceleration sigma in m/s^2 (sqrt(4 g) = 6.26: the paper's "
+        "Q = 4 g as a covariance)",
+    )
+    p.add_argument(
+        "--accel-sigma",
+        type=float,
+        default=2.0 * 9.80665,
+        help="mht and single: white-acceleration sigma in m/s^2 (2 g; the paper's 4 g read as "
+        "a sigma is 39.2)",
     )
     p.add_argument(
         "--detection-probability",
         type=float,
         default=1.0,
         help="detection probability of the simulated sensors (1, as in the paper)",
+    )
+    p.add_argument(
+        "--resamples", type=int, default=1000, help="bootstrap resamples for the intervals (1000)"
     )
     p.add_argument("--no-figures", action="store_true", help="write the CSV and markdown only")
     p.set_defaults(func=run)

@@ -1,6 +1,6 @@
 """Typed stub of the Rust extension module ``geofeas._core``."""
 
-from typing import Any
+from typing import Any, final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -18,9 +18,12 @@ __all__ = [
     "combine_instants",
     "from_gaussian",
     "intersection_area",
+    "MhtTracker",
+    "mht_metric_names",
     "mht_simulate_run",
     "mht_study",
     "mht_track",
+    "mht_tracker_names",
     "mht_trilaterate",
     "pf_log_weights",
     "pf_peaks",
@@ -115,6 +118,9 @@ def mht_simulate_run(
     max_hypotheses: int = 50,
     ekf_iterations: int = 2,
     detection_probability: float = 1.0,
+    new_target_rate: float = 0.02,
+    confirm_probability: float = 0.0,
+    accel_sigma: float = ...,
 ) -> dict[str, Any]: ...
 def mht_study(
     *,
@@ -124,7 +130,49 @@ def mht_study(
     ekf_iterations: int = 2,
     new_target_rate: float = 0.02,
     detection_probability: float = 1.0,
+    confirm_probability: float = 0.0,
+    accel_sigma: float = ...,
+    paper_ekf_iterations: int = 0,
+    paper_new_target_rate: float = 1e-8,
+    paper_confirm_probability: float = 0.0,
+    paper_accel_sigma: float = ...,
+    trackers: list[str] = ...,
+    one_target: list[int] = ...,
+    two_targets: list[int] = ...,
+    resamples: int = 1000,
+    level: float = 0.95,
 ) -> dict[str, Any]: ...
+def mht_metric_names() -> list[str]: ...
+def mht_tracker_names() -> list[str]: ...
+
+@final
+class MhtTracker:
+    def __new__(
+        cls,
+        sensors: NDArray[np.float64],
+        *,
+        max_hypotheses: int = 50,
+        pd: float = 0.9,
+        false_alarm_density: float = ...,
+        new_target_density: float = ...,
+        accel_sigma: float = ...,
+        sigma_range: float = 0.05,
+        sigma_range_rate: float = 0.02,
+        gate: float = 16.0,
+        max_coast: float = 1.0,
+        max_speed: float = 15.0,
+        ekf_iterations: int = 2,
+        single: bool = False,
+    ) -> MhtTracker: ...
+    def process_scan(self, time: float, sensor: int, detections: NDArray[np.float64]) -> int: ...
+    @property
+    def scans(self) -> int: ...
+    @property
+    def detections(self) -> int: ...
+    def estimates(self, rank: int = 0) -> NDArray[np.float64]: ...
+    def hypotheses(self, top: int = 5) -> list[tuple[float, NDArray[np.float64], list[int]]]: ...
+    def track_of_detection(self) -> NDArray[np.float64]: ...
+
 def pf_simulate_run(
     *,
     snr_db: float = 15.0,

@@ -667,3 +667,224 @@ fn bad_input_gives_clear_errors() {
     )
     .is_err());
 }
+
+/// A Cartesian track `id` at `(x, y)` at `time` whose `n` contacts are the detections `dets`.
+fn cartesian_track(id: usize, time: f64, x: f64, y: f64, dets: &[usize]) -> std::sync::Arc<Track> {
+    use geofeas::tracking::mht::track::{Contact, Estimate};
+    let mut history: Option<std::sync::Arc<Contact>> = None;
+    for &k in dets {
+        history = Some(std::sync::Arc::new(Contact {
+            detection: k,
+            time,
+            state: Some([x, y, 10.0, 0.0]),
+            prev: history,
+        }));
+    }
+    std::sync::Arc::new(Track {
+        id,
+        estimate: Estimate::Cartesian(Cartesian {
+            time,
+            x: Vector4::new(x, y, 10.0, 0.0),
+            p: Matrix4::identity(),
+        }),
+        last_scan: 0,
+        last_time: time,
+        contacts: dets.len(),
+        sensor_mask: 0b11,
+        history: history.unwrap(),
+    })
+}
+
+#[test]
+fn scorer_counts_identity_switches_fragmentation_and_gospa() {
+    // One target flying along +x at 10 m/s from the origin; detections 0-9 are its, 10-19 false.
+    let truth = vec![Trajectory {
+        start: [0.0, 20.0],
+        heading: 0.0,
+        speed: 10.0,
+        turn_acceleration: 1.0,
+        legs: vec![],
+    }];
+    let mut detections = Vec::new();
+    for k in 0..20 {
+        detections.push(Detection {
+            target: (k < 10).then_some(0),
+            ..det(0, 0.0, 1.0, 0.0)
+        });
+    }
+    let mut scorer = Scorer::new(Evaluation::default());
+    let mut tally = Tally::default();
+    let hyp = |tracks: Vec<std::sync::Arc<Track>>| Hypothesis {
+        log_weight: 0.0,
+        tracks,
+        closed: None,
+    };
+    let at = |t: f64| 10.0 * t;
+    // t = 0, 1: held by track 100 (exact); t = 2: nothing; t = 3, 4: held by track 200 (1 m off);
+    // t = 5: track 100 again, plus a false track far away.
+    let outputs: Vec<(f64, Vec<std::sync::Arc<Track>>)> = vec![
+        (
+            0.0,
+            vec![cartesian_track(100, 0.0, at(0.0), 20.0, &[0, 1, 2])],
+        ),
+        (
+            1.0,
+            vec![cartesian_track(100, 1.0, at(1.0), 20.0, &[0, 1, 2])],
+        ),
+        (2.0, vec![]),
+        (
+            3.0,
+            vec![cartesian_track(200, 3.0, at(3.0) + 1.0, 20.0, &[3, 4, 5])],
+        ),
+        (
+            4.0,
+            vec![cartesian_track(200, 4.0, at(4.0) + 1.0, 20.0, &[3, 4, 5])],
+        ),
+        (
+            5.0,
+            vec![
+                cartesian_track(100, 5.0, at(5.0), 20.0, &[0, 1, 2]),
+                cartesian_track(300, 5.0, 0.0, 90.0, &[10, 11, 12]),
+            ],
+        ),
+    ];
+    for (t, tracks) in outputs {
+        scorer.observe(&mut tally, &[hyp(tracks)], &detections, &truth, t, 1.0);
+    }
+    let m = tally.metrics();
+    // 200 replaces 100 after a gap (one switch, one fragmentation); 100 returns (one switch).
+    assert_eq!(tally.id_switches, 2.0);
+    assert_eq!(tally.fragmentations, 1.0);
+    assert_eq!(m.id_switches, 2.0);
+    assert_eq!(tally.false_tracks, 1.0);
+    assert!((m.t_pd - 5.0 / 6.0).abs() < 1e-12);
+    // GOSPA (c = 5, p = 2): 0, 0, c / sqrt(2) (missed), 1, 1, sqrt(c^2 / 2) (one false) -> mean.
+    let c = 5.0f64;
+    let expected = (0.0 + 0.0 + (c * c / 2.0).sqrt() + 1.0 + 1.0 + (c * c / 2.0).sqrt()) / 6.0;
+    assert!(
+        (m.gospa - expected).abs() < 1e-9,
+        "{} vs {expected}",
+        m.gospa
+    );
+    assert!((m.gospa_missed - 1.0 / 6.0).abs() < 1e-12);
+    assert!((m.gospa_false - 1.0 / 6.0).abs() < 1e-12);
+    assert!((m.gospa_loc - 2.0 / 6.0).abs() < 1e-12);
+    // Velocity errors: every true output has velocity (10, 0), the truth's.
+    assert!(m.vel_err.abs() < 1e-12 && m.speed_err.abs() < 1e-12);
+}
+
+#[test]
+fn confirmation_stage_waits_for_the_track_probability() {
+    let truth = vec![Trajectory {
+        start: [0.0, 20.0],
+        heading: 0.0,
+        speed: 10.0,
+        turn_acceleration: 1.0,
+        legs: vec![],
+    }];
+    let detections: Vec<Detection> = (0..3)
+        .map(|_| Detection {
+            target: Some(0),
+            ..det(0, 0.0, 1.0, 0.0)
+        })
+        .collect();
+    let track = cartesian_track(7, 0.0, 0.0, 20.0, &[0, 1, 2]);
+    let with = |p: f64| Hypothesis {
+        log_weight: p.ln(),
+        tracks: vec![track.clone()],
+        closed: None,
+    };
+    let without = |p: f64| Hypothesis {
+        log_weight: p.ln(),
+        tracks: vec![],
+        closed: None,
+    };
+    let eval = Evaluation {
+        confirm_probability: 0.9,
+        ..Evaluation::default()
+    };
+    let mut scorer = Scorer::new(eval);
+    let mut tally = Tally::default();
+    // Best hypothesis holds the track, but only 0.6 + 0.2 of the mass: not confirmed.
+    let hs = [with(0.6), without(0.2), with(0.2)];
+    scorer.observe(&mut tally, &hs, &detections, &truth, 0.0, 1.0);
+    assert_eq!(tally.in_track, 0.0);
+    // 0.95: confirmed, and it stays confirmed when the mass falls again.
+    scorer.observe(
+        &mut tally,
+        &[with(0.95), without(0.05)],
+        &detections,
+        &truth,
+        0.0,
+        1.0,
+    );
+    scorer.observe(&mut tally, &hs, &detections, &truth, 0.0, 1.0);
+    assert_eq!(tally.in_track, 2.0);
+    // Without a confirmation stage the first output already counts.
+    let mut scorer = Scorer::new(Evaluation::default());
+    let mut tally = Tally::default();
+    scorer.observe(&mut tally, &hs, &detections, &truth, 0.0, 1.0);
+    assert_eq!(tally.in_track, 1.0);
+}
+
+/// Pooled metrics of `runs` runs of a cell.
+fn cell_metrics(cell: Cell, opts: &StudyOptions) -> (Metrics, ([f64; 12], [f64; 12])) {
+    let per = study_runs(&[cell], opts, &mut || false).unwrap();
+    (pool(&per[0]).metrics(), bootstrap(&per[0], 400, 0.95, 1))
+}
+
+#[test]
+fn mht_false_track_rate_is_far_below_the_single_hypothesis_baseline() {
+    // One target, three sensors, four false alarms per sensor per scan (Table 1's column): the
+    // paper's "without multiple hypotheses ... large false track rates".
+    let opts = StudyOptions {
+        runs: 6,
+        seed: 3,
+        ..StudyOptions::default()
+    };
+    let cell = |tracker| Cell {
+        targets: 1,
+        sensors: 3,
+        tracker,
+        false_alarms: 4,
+    };
+    let (mht, _) = cell_metrics(cell(TrackerKind::Mht), &opts);
+    let (single, (lo, _)) = cell_metrics(cell(TrackerKind::Single), &opts);
+    assert!(lo[1] > 10.0, "single-hypothesis T_FAR {single:?}");
+    assert!(
+        mht.t_far < 0.5 && 20.0 * mht.t_far < single.t_far,
+        "MHT {mht:?} vs single {single:?}"
+    );
+    assert!(
+        mht.gospa < 0.5 * single.gospa,
+        "GOSPA {mht:?} vs {single:?}"
+    );
+}
+
+#[test]
+fn paper_faithful_t_pd_falls_with_false_alarms() {
+    // Table 2's trend: T_PD 0.65 -> 0.33 from 0 to 4 false alarms per sensor per scan (two
+    // targets, three sensors): the true tracks compete with hypotheses that call their contacts
+    // false alarms, the more so the more false alarms there are.
+    let opts = StudyOptions {
+        runs: 8,
+        seed: 4,
+        ..StudyOptions::default()
+    };
+    let cell = |false_alarms| Cell {
+        targets: 2,
+        sensors: 3,
+        tracker: TrackerKind::MhtPaper,
+        false_alarms,
+    };
+    let (clean, (clean_lo, _)) = cell_metrics(cell(0), &opts);
+    let (busy, (_, busy_hi)) = cell_metrics(cell(4), &opts);
+    assert!(
+        busy_hi[0] < clean_lo[0] && clean.t_pd - busy.t_pd > 0.15,
+        "T_PD {} [{}, ..] at 0 FA vs {} [.., {}] at 4 FA",
+        clean.t_pd,
+        clean_lo[0],
+        busy.t_pd,
+        busy_hi[0]
+    );
+}

@@ -7,15 +7,20 @@ image (seed 003, Ohlmeyer and Menon) with the reproduction of its Figs. 6-20 (``
 """
 
 from ._mht import (
+    ESTIMATE_COLUMNS,
+    METRICS,
     PAPER_TABLE_1,
     PAPER_TABLE_2,
     STUDY_COLUMNS,
+    TRACKERS,
+    MhtTracker,
     paper_sensors,
     plot_run,
     simulate_run,
     study,
     track,
     track_ellipses,
+    track_scans,
     trilaterate,
 )
 from ._pf import (
@@ -32,15 +37,20 @@ from ._pf import (
 )
 
 __all__ = [
+    "ESTIMATE_COLUMNS",
+    "METRICS",
+    "MhtTracker",
     "PAPER_TABLE_1",
     "PAPER_TABLE_2",
     "STUDY_COLUMNS",
+    "TRACKERS",
     "paper_sensors",
     "plot_run",
     "simulate_run",
     "study",
     "track",
     "track_ellipses",
+    "track_scans",
     "trilaterate",
     "PAPER_IC",
     "PAPER_PCA",

@@ -16,6 +16,7 @@ Thin wrappers over the Rust core (``geofeas._core.mht_*``):
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any, Literal
 
@@ -30,7 +31,12 @@ from .._core import GeofeasError
 __all__ = [
     "PAPER_TABLE_1",
     "PAPER_TABLE_2",
+    "ESTIMATE_COLUMNS",
+    "METRICS",
+    "MhtTracker",
     "STUDY_COLUMNS",
+    "TRACKERS",
+    "track_scans",
     "paper_sensors",
     "plot_run",
     "simulate_run",
@@ -40,17 +46,22 @@ __all__ = [
     "trilaterate",
 ]
 
-#: Columns of :func:`study` and of ``tables.csv``.
-STUDY_COLUMNS = (
+#: Metrics of the study, in table order (defined once, in the Rust core).
+METRICS: tuple[str, ...] = tuple(_core.mht_metric_names())
+
+#: Trackers of the study: the MHT in the project's recommended configuration, the MHT in the
+#: paper-faithful configuration, and the single-hypothesis baseline.
+TRACKERS: tuple[str, ...] = tuple(_core.mht_tracker_names())
+
+#: Columns of :func:`study` and of ``tables.csv``: the cell, ``runs``, then every metric followed
+#: by its confidence interval (``_lo``, ``_hi``).
+STUDY_COLUMNS: tuple[str, ...] = (
     "targets",
     "sensors",
     "tracker",
     "false_alarms",
-    "t_pd",
-    "t_far",
-    "pos_err",
-    "vel_err",
-)
+    "runs",
+) + tuple(c for m in METRICS for c in (m, f"{m}_lo", f"{m}_hi"))
 
 #: Table 1 of the paper (one target, three sensors, 50 hypotheses): false alarms per sensor per
 #: scan -> (T_PD, T_FAR [tracks/s], pos err [m], vel err [m/s]).
@@ -164,7 +175,7 @@ def track(
     pd: float = 0.9,
     false_alarm_density: float = 1.0 / 3000.0,
     new_target_density: float = 0.02 / 3000.0,
-    accel_sigma: float = 4.0 * 9.80665,
+    accel_sigma: float = 2.0 * 9.80665,
     sigma_range: float = 0.05,
     sigma_range_rate: float = 0.02,
     gate: float = 16.0,
@@ -189,7 +200,8 @@ def track(
     pd, false_alarm_density, new_target_density
         Reid's detection probability (in (0, 1)) and densities per (m x m/s) of one scan.
     accel_sigma : float
-        White acceleration standard deviation of the motion models, m/s^2 (the paper: 4 g).
+        White acceleration standard deviation of the motion models, m/s^2 (2 g; the paper's
+        ``Q = 4 g`` read as a covariance is ``sqrt(4 g) = 6.26``).
     sigma_range, sigma_range_rate : float
         Measurement noise.
     gate : float
@@ -243,17 +255,198 @@ def track(
     )
 
 
+#: Columns of :meth:`MhtTracker.estimates`.
+ESTIMATE_COLUMNS: tuple[str, ...] = (
+    "id",
+    "time",
+    "x",
+    "y",
+    "vx",
+    "vy",
+    "p_x_x",
+    "p_x_y",
+    "p_x_vx",
+    "p_x_vy",
+    "p_y_y",
+    "p_y_vx",
+    "p_y_vy",
+    "p_vx_vx",
+    "p_vx_vy",
+    "p_vy_vy",
+    "contacts",
+    "sensors",
+)
+
+
+class MhtTracker:
+    """Reid's multiple-hypothesis trilateration tracker (seed 004), fed one scan at a time.
+
+    Parameters
+    ----------
+    sensors : array_like, shape (s, 6)
+        Rows ``[x, y, boresight, half_beam, max_range, max_range_rate]`` (see
+        :func:`paper_sensors`).
+    **options
+        Tracker options as in :func:`track` (``max_hypotheses``, ``pd``,
+        ``false_alarm_density``, ``new_target_density``, ``accel_sigma``, ``sigma_range``,
+        ``sigma_range_rate``, ``gate``, ``max_coast``, ``max_speed``, ``ekf_iterations``,
+        ``single``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from geofeas.tracking import MhtTracker, paper_sensors
+    >>> mht = MhtTracker(paper_sensors(2))
+    >>> mht.process_scan(0.0, 0, np.array([[25.0, 1.0]]))
+    0
+    >>> mht.process_scan(0.5, 1, np.empty((0, 2)))   # an empty scan: charged 1 - P_D
+    1
+    >>> [round(p, 3) for p, _, _ in mht.hypotheses(top=2)]
+    [0.998, 0.002]
+    """
+
+    def __init__(self, sensors: ArrayLike, /, **options: Any) -> None:
+        sen = as_float_array(sensors, "sensors")
+        if sen.ndim != 2 or sen.shape[1] != 6:
+            raise GeofeasError(
+                "sensors: expected shape (s, 6) with columns x, y, boresight, half_beam, "
+                f"max_range, max_range_rate; got {sen.shape}"
+            )
+        known = set(_TRACK_OPTIONS)
+        unknown = sorted(set(options) - known)
+        if unknown:
+            raise GeofeasError(f"{unknown[0]}: unknown option (expected one of {sorted(known)})")
+        self._core = _core.MhtTracker(sen, **options)
+
+    def process_scan(self, time: float, sensor: int, detections: ArrayLike) -> int:
+        """Processes the scan of ``sensor`` at ``time`` (not before the previous scan).
+
+        ``detections`` are rows ``[range, range_rate]``, possibly none (shape ``(0, 2)``): every
+        track the sensor could have seen and did not is then charged Reid's ``1 - P_D``. Returns
+        the stream index of the scan's first detection (detections are numbered in the order they
+        are given).
+        """
+        det = as_float_array(detections, "detections")
+        if det.size == 0:
+            det = np.empty((0, 2), dtype=np.float64)
+        if det.ndim != 2 or det.shape[1] != 2:
+            raise GeofeasError(
+                f"detections: expected shape (n, 2) with columns range, range_rate; got {det.shape}"
+            )
+        return int(self._core.process_scan(float(time), _int(sensor, "sensor", 0), det))
+
+    @property
+    def scans(self) -> int:
+        """Scans processed."""
+        return int(self._core.scans)
+
+    def estimates(self, rank: int = 0) -> NDArray[np.float64]:
+        """Cartesian tracks of the hypothesis of rank ``rank`` (0: the most likely), rows
+        :data:`ESTIMATE_COLUMNS`."""
+        return np.asarray(self._core.estimates(_int(rank, "rank", 0)))
+
+    def hypotheses(self, top: int = 5) -> list[tuple[float, NDArray[np.float64], list[int]]]:
+        """The ``top`` most likely hypotheses, most likely first: ``(probability, estimates,
+        open track ids)``; the probabilities are normalised over the kept hypotheses."""
+        return [
+            (float(p), np.asarray(e), list(ids))
+            for p, e, ids in self._core.hypotheses(_int(top, "top", 1))
+        ]
+
+    def track_of_detection(self) -> NDArray[np.int64]:
+        """Track id of every detection so far in the most likely hypothesis (-1: false alarm)."""
+        return np.asarray(self._core.track_of_detection()).astype(np.int64)
+
+
+_TRACK_OPTIONS = (
+    "max_hypotheses",
+    "pd",
+    "false_alarm_density",
+    "new_target_density",
+    "accel_sigma",
+    "sigma_range",
+    "sigma_range_rate",
+    "gate",
+    "max_coast",
+    "max_speed",
+    "ekf_iterations",
+    "single",
+)
+
+
+def track_scans(
+    scans: Iterable[tuple[float, int, ArrayLike]],
+    sensors: ArrayLike,
+    /,
+    *,
+    top: int = 3,
+    **options: Any,
+) -> dict[str, Any]:
+    """Tracks a stream of scans ``(time, sensor, detections)``, empty scans included.
+
+    Parameters
+    ----------
+    scans : iterable of (time, sensor, detections)
+        In time order; ``detections`` rows ``[range, range_rate]``, possibly none, so that
+        Reid's missed-detection charge ``1 - P_D`` applies to scans that saw nothing.
+    sensors : array_like, shape (s, 6)
+        As for :class:`MhtTracker`.
+    top : int
+        Hypotheses reported after every scan.
+    **options
+        As for :class:`MhtTracker`.
+
+    Returns
+    -------
+    dict
+        ``estimates``: rows ``[scan]`` + :data:`ESTIMATE_COLUMNS` of the most likely hypothesis
+        after every scan; ``top``: rows ``[scan, rank, probability]`` of the ``top`` most likely
+        hypotheses after every scan; ``hypotheses``: the final ``top`` hypotheses as
+        ``(probability, estimates, open track ids)``; ``track_of_detection``: track id of every
+        detection in the final most likely hypothesis (-1: false alarm).
+    """
+    mht = MhtTracker(sensors, **options)
+    k = _int(top, "top", 1)
+    est: list[NDArray[np.float64]] = []
+    tops: list[list[float]] = []
+    for i, scan in enumerate(scans):
+        try:
+            time, sensor, detections = scan
+        except (TypeError, ValueError):
+            raise GeofeasError(
+                f"scans: row {i}: expected (time, sensor, detections), got {scan!r}"
+            ) from None
+        mht.process_scan(time, sensor, detections)
+        e = mht.estimates()
+        est.append(
+            np.column_stack([np.full(len(e), float(i)), e])
+            if len(e)
+            else e.reshape(0, 1 + len(ESTIMATE_COLUMNS))
+        )
+        for rank, (p, _, _) in enumerate(mht.hypotheses(k)):
+            tops.append([float(i), float(rank), p])
+    return {
+        "estimates": np.concatenate(est) if est else np.empty((0, 1 + len(ESTIMATE_COLUMNS))),
+        "top": np.array(tops, dtype=np.float64).reshape(-1, 3),
+        "hypotheses": mht.hypotheses(k),
+        "track_of_detection": mht.track_of_detection(),
+    }
+
+
 def simulate_run(
     *,
     targets: int = 2,
     sensors: int = 3,
     false_alarms: int = 2,
-    tracker: Literal["mht", "single"] = "mht",
+    tracker: Literal["mht", "mht-paper", "single"] = "mht",
     run: int = 0,
     seed: int = 0,
     max_hypotheses: int = 50,
     ekf_iterations: int = 2,
     detection_probability: float = 1.0,
+    new_target_rate: float = 0.02,
+    confirm_probability: float = 0.0,
+    accel_sigma: float = 2.0 * 9.80665,
 ) -> dict[str, Any]:
     """Simulates and tracks one run of the paper's scenario (section 5.1), with the sensors'
     ``detection_probability`` (the paper: 1).
@@ -264,8 +457,10 @@ def simulate_run(
         ``detections`` rows ``[time, sensor, range, range_rate, target, track]`` (target -1: false
         alarm; track -1: not in a track of the final most likely hypothesis), ``tracks`` and
         ``ellipses`` as in :func:`track`, ``truth`` rows ``[target, time, x, y, vx, vy]`` every
-        0.05 s, ``sensors`` positions, ``metrics`` (``t_pd``, ``t_far``, ``pos_err``,
-        ``vel_err`` of this run, section 5.2) and ``duration``.
+        0.05 s, ``sensors`` positions, ``metrics`` (:data:`METRICS` of this run: section 5.2,
+        GOSPA, identity switches, fragmentation) and ``duration``. ``tracker="mht-paper"`` runs
+        the paper-faithful configuration (plain EKF, ``Q = 4 g`` read as a covariance, new-target
+        rate 1e-8); the other options then apply to ``"mht"`` and ``"single"`` only.
     """
     return dict(
         _core.mht_simulate_run(
@@ -278,6 +473,9 @@ def simulate_run(
             max_hypotheses=_int(max_hypotheses, "max_hypotheses", 1),
             ekf_iterations=_int(ekf_iterations, "ekf_iterations", 0),
             detection_probability=float(detection_probability),
+            new_target_rate=float(new_target_rate),
+            confirm_probability=float(confirm_probability),
+            accel_sigma=float(accel_sigma),
         )
     )
 
@@ -290,24 +488,41 @@ def study(
     ekf_iterations: int = 2,
     new_target_rate: float = 0.02,
     detection_probability: float = 1.0,
+    confirm_probability: float = 0.0,
+    accel_sigma: float = 2.0 * 9.80665,
+    paper_ekf_iterations: int = 0,
+    paper_new_target_rate: float = 1e-8,
+    paper_confirm_probability: float = 0.0,
+    paper_accel_sigma: float = math.sqrt(4.0 * 9.80665),
+    trackers: Sequence[str] = TRACKERS,
+    one_target: Sequence[int] = (0, 1, 2, 4, 6, 7, 8),
+    two_targets: Sequence[int] = (0, 1, 2, 3, 4, 6, 8),
+    resamples: int = 1000,
+    level: float = 0.95,
 ) -> dict[str, Any]:
     """Monte-Carlo reproduction of Tables 1 and 2 (section 5), in parallel in Rust.
 
-    One row per cell: one target with 0, 1, 2, 4, 6 and two targets with 0-4 false alarms per
-    sensor per scan, three and two sensors, the MHT and the single-hypothesis baseline; metrics
-    pooled over ``runs`` runs. Runs use streams derived from ``(seed, cell, run)``, so results do
-    not depend on the thread count, and both trackers see the same data. ``ekf_iterations=0``
-    uses the paper's plain EKF instead of the iterated one; ``new_target_rate`` is the expected
-    number of new targets per scan in a sensor's range / range-rate window (the new-target density
-    of Reid's hypothesis probabilities, which the paper does not give);
-    ``detection_probability`` is the simulated sensors' (the paper: 1; the tracker assumes 0.9).
+    One row per cell: ``trackers`` x {3, 2 sensors} x (one target with ``one_target`` and two
+    targets with ``two_targets`` false alarms per sensor per scan); metrics pooled over ``runs``
+    runs, each with its percentile-bootstrap interval at ``level`` over ``resamples`` resamples
+    of the runs. Runs use streams derived from ``(seed, cell, run)``, so results do not depend on
+    the thread count, and all trackers see the same data.
+
+    The recommended MHT (``"mht"``) and the baseline use ``ekf_iterations`` (0: the paper's
+    plain EKF), ``new_target_rate`` (expected new targets per scan in a sensor's range /
+    range-rate window: the new-target density of Reid's hypothesis probabilities, which the paper
+    does not give), ``confirm_probability`` (0: no confirmation stage) and ``accel_sigma``
+    (process noise, m/s^2; the paper's 4 g). The paper-faithful MHT (``"mht-paper"``) uses the
+    ``paper_*`` options. ``detection_probability`` is the simulated sensors' (the paper: 1; the
+    trackers assume 0.9).
 
     Returns
     -------
     dict
-        Columns :data:`STUDY_COLUMNS`: numeric arrays and ``tracker``, a list of ``"mht"`` /
-        ``"single"``.
+        Columns :data:`STUDY_COLUMNS`: numeric arrays and ``tracker``, a list of names from
+        :data:`TRACKERS`.
     """
+    names = [str(t) for t in trackers]
     out = dict(
         _core.mht_study(
             runs=_int(runs, "runs", 1),
@@ -316,10 +531,22 @@ def study(
             ekf_iterations=_int(ekf_iterations, "ekf_iterations", 0),
             new_target_rate=float(new_target_rate),
             detection_probability=float(detection_probability),
+            confirm_probability=float(confirm_probability),
+            accel_sigma=float(accel_sigma),
+            paper_ekf_iterations=_int(paper_ekf_iterations, "paper_ekf_iterations", 0),
+            paper_new_target_rate=float(paper_new_target_rate),
+            paper_confirm_probability=float(paper_confirm_probability),
+            paper_accel_sigma=float(paper_accel_sigma),
+            trackers=names,
+            one_target=[_int(v, "one_target", 0) for v in one_target],
+            two_targets=[_int(v, "two_targets", 0) for v in two_targets],
+            resamples=_int(resamples, "resamples", 0),
+            level=float(level),
         )
     )
     for key in ("targets", "sensors", "false_alarms"):
         out[key] = out[key].astype(np.int64)
+    out["runs"] = np.full(len(out["tracker"]), int(runs), dtype=np.int64)
     return {k: out[k] for k in STUDY_COLUMNS}
 
 

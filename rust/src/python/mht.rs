@@ -12,8 +12,9 @@ use pyo3::types::PyDict;
 use super::{check_signals, detached};
 use crate::error::Error;
 use crate::tracking::mht::{
-    group_scans, paper_cells, run_one, study_with_interrupt, trilaterate_gaussian, Cell, Detection,
-    Hypothesis, Mht, MhtConfig, Noise, Sensor, StudyOptions, TrackerKind,
+    bootstrap, group_scans, pool, run_one, study_cells, study_runs, trilaterate_gaussian, Cell,
+    Detection, Hypothesis, Metrics, Mht, MhtConfig, Noise, PaperPreset, Sensor, StudyOptions,
+    TrackerKind,
 };
 
 fn matrix<'a>(
@@ -53,15 +54,7 @@ fn fixed<const N: usize>(
 }
 
 fn tracker_kind(name: &str) -> PyResult<TrackerKind> {
-    match name {
-        "mht" => Ok(TrackerKind::Mht),
-        "single" => Ok(TrackerKind::Single),
-        other => Err(Error::InvalidOption {
-            name: "tracker",
-            reason: format!("expected 'mht' or 'single', got '{other}'"),
-        }
-        .into()),
-    }
+    Ok(TrackerKind::from_name(name)?)
 }
 
 /// Sensors from rows `[x, y, boresight, half_beam, max_range, max_range_rate]`.
@@ -228,7 +221,7 @@ fn mht_trilaterate<'py>(
 /// Tracks detection rows `[time, sensor, range, range_rate]` (sorted by time) from sensors rows
 /// `[x, y, boresight, half_beam, max_range, max_range_rate]`.
 #[pyfunction]
-#[pyo3(signature = (detections, sensors, *, max_hypotheses=50, pd=0.9, false_alarm_density=1.0/3000.0, new_target_density=0.02/3000.0, accel_sigma=4.0*9.80665, sigma_range=0.05, sigma_range_rate=0.02, gate=16.0, max_coast=1.0, max_speed=15.0, ekf_iterations=2, single=false))]
+#[pyo3(signature = (detections, sensors, *, max_hypotheses=50, pd=0.9, false_alarm_density=1.0/3000.0, new_target_density=0.02/3000.0, accel_sigma=2.0*9.80665, sigma_range=0.05, sigma_range_rate=0.02, gate=16.0, max_coast=1.0, max_speed=15.0, ekf_iterations=2, single=false))]
 #[allow(clippy::too_many_arguments)]
 fn mht_track<'py>(
     py: Python<'py>,
@@ -309,7 +302,7 @@ fn mht_track<'py>(
 /// Simulates and tracks one run of a paper scenario; returns detections, tracks, ellipses, truth
 /// and metrics.
 #[pyfunction]
-#[pyo3(signature = (*, targets=2, sensors=3, false_alarms=2, tracker="mht", run=0, seed=0, max_hypotheses=50, ekf_iterations=2, detection_probability=1.0))]
+#[pyo3(signature = (*, targets=2, sensors=3, false_alarms=2, tracker="mht", run=0, seed=0, max_hypotheses=50, ekf_iterations=2, detection_probability=1.0, new_target_rate=0.02, confirm_probability=0.0, accel_sigma=4.0*9.80665))]
 #[allow(clippy::too_many_arguments)]
 fn mht_simulate_run<'py>(
     py: Python<'py>,
@@ -322,6 +315,9 @@ fn mht_simulate_run<'py>(
     max_hypotheses: usize,
     ekf_iterations: usize,
     detection_probability: f64,
+    new_target_rate: f64,
+    confirm_probability: f64,
+    accel_sigma: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     at_most("ekf_iterations", ekf_iterations, MAX_EKF_ITERATIONS)?;
     at_most("max_hypotheses", max_hypotheses, MAX_HYPOTHESES)?;
@@ -337,6 +333,9 @@ fn mht_simulate_run<'py>(
         max_hypotheses,
         ekf_iterations,
         detection_probability,
+        new_target_rate,
+        confirm_probability,
+        accel_sigma,
         ..StudyOptions::default()
     };
     let o = detached(py, move || run_one(&cell, &opts, run))?;
@@ -370,10 +369,9 @@ fn mht_simulate_run<'py>(
         .collect();
     let m = o.tally.metrics();
     let metrics = PyDict::new(py);
-    metrics.set_item("t_pd", m.t_pd)?;
-    metrics.set_item("t_far", m.t_far)?;
-    metrics.set_item("pos_err", m.pos_err)?;
-    metrics.set_item("vel_err", m.vel_err)?;
+    for (k, v) in Metrics::NAMES.iter().zip(m.values()) {
+        metrics.set_item(*k, v)?;
+    }
     let out = PyDict::new(py);
     out.set_item("detections", to_2d(py, det_rows, 6)?)?;
     out.set_item("tracks", to_2d(py, paths, 6)?)?;
@@ -385,9 +383,11 @@ fn mht_simulate_run<'py>(
     Ok(out)
 }
 
-/// The Monte-Carlo study of Tables 1 and 2: one row per cell of the paper's grid.
+/// The Monte-Carlo study of Tables 1 and 2: one row per cell (tracker x sensors x targets x
+/// false alarms), every metric with its percentile-bootstrap confidence interval over runs.
 #[pyfunction]
-#[pyo3(signature = (*, runs=20, seed=0, max_hypotheses=50, ekf_iterations=2, new_target_rate=0.02, detection_probability=1.0))]
+#[pyo3(signature = (*, runs=20, seed=0, max_hypotheses=50, ekf_iterations=2, new_target_rate=0.02, detection_probability=1.0, confirm_probability=0.0, accel_sigma=2.0*9.80665, paper_ekf_iterations=0, paper_new_target_rate=1e-8, paper_confirm_probability=0.0, paper_accel_sigma=(4.0*9.80665f64).sqrt(), trackers=vec!["mht".to_string(), "mht-paper".to_string(), "single".to_string()], one_target=vec![0, 1, 2, 4, 6, 7, 8], two_targets=vec![0, 1, 2, 3, 4, 6, 8], resamples=1000, level=0.95))]
+#[allow(clippy::too_many_arguments)]
 fn mht_study<'py>(
     py: Python<'py>,
     runs: usize,
@@ -396,6 +396,17 @@ fn mht_study<'py>(
     ekf_iterations: usize,
     new_target_rate: f64,
     detection_probability: f64,
+    confirm_probability: f64,
+    accel_sigma: f64,
+    paper_ekf_iterations: usize,
+    paper_new_target_rate: f64,
+    paper_confirm_probability: f64,
+    paper_accel_sigma: f64,
+    trackers: Vec<String>,
+    one_target: Vec<usize>,
+    two_targets: Vec<usize>,
+    resamples: usize,
+    level: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     at_most("ekf_iterations", ekf_iterations, MAX_EKF_ITERATIONS)?;
     at_most("max_hypotheses", max_hypotheses, MAX_HYPOTHESES)?;
@@ -406,33 +417,251 @@ fn mht_study<'py>(
         ekf_iterations,
         new_target_rate,
         detection_probability,
+        confirm_probability,
+        accel_sigma,
+        paper: PaperPreset {
+            ekf_iterations: paper_ekf_iterations,
+            new_target_rate: paper_new_target_rate,
+            confirm_probability: paper_confirm_probability,
+            accel_sigma: paper_accel_sigma,
+        },
     };
-    let cells = paper_cells();
+    if !(level > 0.0 && level < 1.0) {
+        return Err(Error::InvalidOption {
+            name: "level",
+            reason: format!("must be in (0, 1), got {level}"),
+        }
+        .into());
+    }
+    let kinds = trackers
+        .iter()
+        .map(|t| tracker_kind(t))
+        .collect::<PyResult<Vec<_>>>()?;
+    let cells = study_cells(&kinds, &one_target, &two_targets);
     let rows = detached(py, || {
-        study_with_interrupt(&cells, &opts, &mut check_signals)
+        let per_cell = study_runs(&cells, &opts, &mut check_signals)?;
+        Ok::<_, Error>(
+            per_cell
+                .iter()
+                .enumerate()
+                .map(|(i, r)| {
+                    let (lo, hi) = bootstrap(r, resamples, level, seed ^ i as u64);
+                    (pool(r).metrics().values(), lo, hi)
+                })
+                .collect::<Vec<_>>(),
+        )
     })?;
-    let mut cols: HashMap<&str, Vec<f64>> = HashMap::new();
-    let mut trackers = Vec::with_capacity(rows.len());
-    for (c, m) in &rows {
+    let mut cols: HashMap<String, Vec<f64>> = HashMap::new();
+    let mut names = Vec::with_capacity(rows.len());
+    for (c, (m, lo, hi)) in cells.iter().zip(&rows) {
         for (k, v) in [
             ("targets", c.targets as f64),
             ("sensors", c.sensors as f64),
             ("false_alarms", c.false_alarms as f64),
-            ("t_pd", m.t_pd),
-            ("t_far", m.t_far),
-            ("pos_err", m.pos_err),
-            ("vel_err", m.vel_err),
         ] {
-            cols.entry(k).or_default().push(v);
+            cols.entry(k.to_string()).or_default().push(v);
         }
-        trackers.push(c.tracker.name());
+        for (k, name) in Metrics::NAMES.iter().enumerate() {
+            cols.entry(name.to_string()).or_default().push(m[k]);
+            cols.entry(format!("{name}_lo")).or_default().push(lo[k]);
+            cols.entry(format!("{name}_hi")).or_default().push(hi[k]);
+        }
+        names.push(c.tracker.name());
     }
     let out = PyDict::new(py);
     for (k, v) in cols {
         out.set_item(k, v.into_pyarray(py))?;
     }
-    out.set_item("tracker", trackers)?;
+    out.set_item("tracker", names)?;
     Ok(out)
+}
+
+/// Names of the study's trackers.
+#[pyfunction]
+fn mht_tracker_names() -> Vec<&'static str> {
+    TrackerKind::ALL.iter().map(TrackerKind::name).collect()
+}
+
+/// Names of the study's metrics, in table order.
+#[pyfunction]
+fn mht_metric_names() -> Vec<&'static str> {
+    Metrics::NAMES.to_vec()
+}
+
+/// Rows `[id, time, x, y, vx, vy, P upper triangle (10, row by row), contacts, sensors]` of the
+/// Cartesian open tracks of `h`, by track id.
+fn estimate_rows(h: &Hypothesis) -> Vec<f64> {
+    let mut tracks: Vec<_> = h.tracks.iter().filter(|t| t.is_cartesian()).collect();
+    tracks.sort_by_key(|t| t.id);
+    let mut rows = Vec::with_capacity(tracks.len() * ESTIMATE_COLUMNS);
+    for t in tracks {
+        if let Some(c) = t.cartesian() {
+            rows.extend_from_slice(&[t.id as f64, c.time, c.x[0], c.x[1], c.x[2], c.x[3]]);
+            for i in 0..4 {
+                for j in i..4 {
+                    rows.push(0.5 * (c.p[(i, j)] + c.p[(j, i)]));
+                }
+            }
+            rows.extend_from_slice(&[t.contacts as f64, t.sensor_count() as f64]);
+        }
+    }
+    rows
+}
+
+const ESTIMATE_COLUMNS: usize = 18;
+
+/// A multiple-hypothesis trilateration tracker fed one scan at a time (seed 004, Reid's
+/// measurement-oriented MHT). Sensors are rows `[x, y, boresight, half_beam, max_range,
+/// max_range_rate]`; options as in `mht_track`.
+#[pyclass(name = "MhtTracker", module = "geofeas._core")]
+pub struct PyMhtTracker {
+    mht: Mht,
+    detections: usize,
+}
+
+#[pymethods]
+impl PyMhtTracker {
+    #[new]
+    #[pyo3(signature = (sensors, *, max_hypotheses=50, pd=0.9, false_alarm_density=1.0/3000.0, new_target_density=0.02/3000.0, accel_sigma=2.0*9.80665, sigma_range=0.05, sigma_range_rate=0.02, gate=16.0, max_coast=1.0, max_speed=15.0, ekf_iterations=2, single=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        sensors: PyReadonlyArray2<'_, f64>,
+        max_hypotheses: usize,
+        pd: f64,
+        false_alarm_density: f64,
+        new_target_density: f64,
+        accel_sigma: f64,
+        sigma_range: f64,
+        sigma_range_rate: f64,
+        gate: f64,
+        max_coast: f64,
+        max_speed: f64,
+        ekf_iterations: usize,
+        single: bool,
+    ) -> PyResult<Self> {
+        let sens = sensors_from(matrix("sensors", &sensors, 6)?)?;
+        let mut config = MhtConfig {
+            max_hypotheses,
+            pd,
+            false_alarm_density,
+            new_target_density,
+            accel_sigma,
+            noise: Noise {
+                sigma_range,
+                sigma_range_rate,
+            },
+            gate,
+            max_coast,
+            max_speed,
+            ekf_iterations,
+            ..MhtConfig::default()
+        };
+        if single {
+            config = config.single_hypothesis();
+        }
+        Ok(Self {
+            mht: Mht::new(sens, config)?,
+            detections: 0,
+        })
+    }
+
+    /// Processes the scan of `sensor` at `time` with detection rows `[range, range_rate]` (an
+    /// empty `(0, 2)` array for a scan without detections: every track the sensor could see is
+    /// then charged `1 - P_D`). Returns the index of the scan's first detection in the stream.
+    fn process_scan(
+        &mut self,
+        py: Python<'_>,
+        time: f64,
+        sensor: usize,
+        detections: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<usize> {
+        let flat = matrix("detections", &detections, 2)?;
+        let first = self.detections;
+        let batch: Vec<(usize, Detection)> = flat
+            .chunks_exact(2)
+            .enumerate()
+            .map(|(k, r)| {
+                (
+                    first + k,
+                    Detection {
+                        time,
+                        sensor,
+                        scan: 0,
+                        range: r[0],
+                        range_rate: r[1],
+                        target: None,
+                    },
+                )
+            })
+            .collect();
+        let n = batch.len();
+        let mht = &mut self.mht;
+        detached(py, move || mht.process_scan(time, sensor, &batch))?;
+        self.detections += n;
+        Ok(first)
+    }
+
+    /// Number of scans processed.
+    #[getter]
+    fn scans(&self) -> usize {
+        self.mht.scans()
+    }
+
+    /// Number of detections processed.
+    #[getter]
+    fn detections(&self) -> usize {
+        self.detections
+    }
+
+    /// Cartesian tracks of the hypothesis of rank `rank` (0: the most likely), rows
+    /// `[id, time, x, y, vx, vy, P upper triangle (10), contacts, sensors]`.
+    #[pyo3(signature = (rank=0))]
+    fn estimates<'py>(&self, py: Python<'py>, rank: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let h = self
+            .mht
+            .hypotheses()
+            .get(rank)
+            .ok_or_else(|| Error::InvalidOption {
+                name: "rank",
+                reason: format!(
+                    "{rank} is not below the {} kept hypotheses",
+                    self.mht.hypotheses().len()
+                ),
+            })?;
+        to_2d(py, estimate_rows(h), ESTIMATE_COLUMNS)
+    }
+
+    /// The `top` most likely hypotheses: `(probability, estimates, open track ids)` each, with
+    /// the estimates as in `estimates` and the ids of all open tracks (range-Doppler included).
+    #[pyo3(signature = (top=5))]
+    #[allow(clippy::type_complexity)]
+    fn hypotheses<'py>(
+        &self,
+        py: Python<'py>,
+        top: usize,
+    ) -> PyResult<Vec<(f64, Bound<'py, PyArray2<f64>>, Vec<usize>)>> {
+        self.mht
+            .hypotheses()
+            .iter()
+            .take(top)
+            .map(|h| {
+                let mut ids: Vec<usize> = h.tracks.iter().map(|t| t.id).collect();
+                ids.sort_unstable();
+                Ok((
+                    h.probability(),
+                    to_2d(py, estimate_rows(h), ESTIMATE_COLUMNS)?,
+                    ids,
+                ))
+            })
+            .collect()
+    }
+
+    /// The track id of every detection processed so far in the most likely hypothesis (-1: not
+    /// in a track, i.e. a false alarm there).
+    fn track_of_detection<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let (_, _, owner) = hypothesis_arrays(self.mht.best(), self.detections);
+        owner.into_pyarray(py)
+    }
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -440,5 +669,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mht_track, m)?)?;
     m.add_function(wrap_pyfunction!(mht_simulate_run, m)?)?;
     m.add_function(wrap_pyfunction!(mht_study, m)?)?;
+    m.add_function(wrap_pyfunction!(mht_metric_names, m)?)?;
+    m.add_function(wrap_pyfunction!(mht_tracker_names, m)?)?;
+    m.add_class::<PyMhtTracker>()?;
     Ok(())
 }

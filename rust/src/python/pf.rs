@@ -668,6 +668,32 @@ fn pf_study<'py>(
     out.set_item("rmse_px", col(&|r| r.all.rmse).into_pyarray(py))?;
     out.set_item("coverage", col(&|r| r.all.coverage).into_pyarray(py))?;
     out.set_item("held", col(&|r| r.all.held).into_pyarray(py))?;
+    for (name, f) in [
+        (
+            "gospa",
+            (|m| m.gospa) as fn(&crate::tracking::pf::BankMetrics) -> f64,
+        ),
+        ("gospa_loc", |m| m.gospa_loc),
+        ("gospa_missed", |m| m.gospa_missed),
+        ("gospa_false", |m| m.gospa_false),
+        ("id_switches", |m| m.id_switches),
+        ("fragmentations", |m| m.fragmentations),
+    ] {
+        out.set_item(name, col(&|r| f(&r.bank)).into_pyarray(py))?;
+    }
+    for (name, f) in [
+        (
+            "pca",
+            (|m| m.pca) as fn(&crate::tracking::pf::FilterMetrics) -> f64,
+        ),
+        ("hit", |m| m.hit),
+        ("rmse_px", |m| m.rmse),
+        ("coverage", |m| m.coverage),
+        ("held", |m| m.held),
+    ] {
+        out.set_item(format!("{name}_lo"), col(&|r| f(&r.lo)).into_pyarray(py))?;
+        out.set_item(format!("{name}_hi"), col(&|r| f(&r.hi)).into_pyarray(py))?;
+    }
     let per = |f: &dyn Fn(&crate::tracking::pf::FilterMetrics) -> f64| -> Vec<f64> {
         rows.iter().flat_map(|r| r.filters.iter().map(f)).collect()
     };

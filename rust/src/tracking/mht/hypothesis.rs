@@ -36,7 +36,8 @@ pub struct MhtConfig {
     pub false_alarm_density: f64,
     /// New-target density, per (metre x metre per second) of one scan.
     pub new_target_density: f64,
-    /// Process noise: white acceleration standard deviation, m/s^2 (paper: 4 g).
+    /// Process noise: white acceleration standard deviation, m/s^2 (default 2 g; the paper sets
+    /// `Q = 4 g` in eq. 11, i.e. `sqrt(4 g) = 6.26` if `Q` is read as a covariance).
     pub accel_sigma: f64,
     /// Measurement noise.
     pub noise: Noise,
@@ -66,7 +67,7 @@ impl Default for MhtConfig {
             pd: 0.9,
             false_alarm_density: 1.0 / volume,
             new_target_density: 0.02 / volume,
-            accel_sigma: 4.0 * G,
+            accel_sigma: 2.0 * G,
             noise: Noise::default(),
             gate: 16.0,
             max_coast: 1.0,

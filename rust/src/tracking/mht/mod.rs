@@ -10,7 +10,8 @@
 //! - [`cartesian`]: extended Kalman filter of multi-sensor tracks (section 4.3).
 //! - [`track`]: flexible-state tracks and the three association types (section 3).
 //! - [`hypothesis`]: Reid's measurement-oriented MHT and the single-hypothesis baseline.
-//! - [`metrics`]: T_PD, T_FAR, position and velocity errors (section 5.2).
+//! - [`metrics`]: T_PD, T_FAR, position and velocity errors (section 5.2), GOSPA, identity
+//!   switches and fragmentation.
 //! - [`study`]: the Monte-Carlo reproduction of Tables 1 and 2.
 //!
 //! A Cartesian track's position covariance is a geofeas [`crate::Ellipse`]
@@ -46,12 +47,13 @@ pub mod trilateration;
 use nalgebra::{Matrix2, Vector2};
 
 pub use hypothesis::{group_scans, Hypothesis, Mht, MhtConfig};
-pub use metrics::{Evaluation, Metrics, Tally};
+pub use metrics::{Evaluation, Metrics, Scorer, Tally};
 pub use scenario::{Scenario, Trajectory};
 pub use sensor::{Detection, Noise, Sensor};
 pub use study::{
-    paper_cells, run_one, run_one_with, study, study_with_interrupt, Cell, StudyOptions,
-    TrackerKind,
+    bootstrap, evaluation, paper_cells, pool, run_one, run_one_with, study, study_cells,
+    study_runs, study_with_interrupt, Cell, PaperPreset, StudyOptions, TrackerKind,
+    EXTENDED_ONE_TARGET, EXTENDED_TWO_TARGETS,
 };
 pub use track::Track;
 pub use trilateration::{trilaterate, trilaterate_gaussian, Trilateration};

@@ -13,7 +13,7 @@ use rayon::prelude::*;
 use crate::error::{Error, Result};
 use crate::tracking::pf::association::Association;
 use crate::tracking::pf::bank::{Method, PfConfig};
-use crate::tracking::pf::metrics::{pooled, FilterMetrics, FilterTally};
+use crate::tracking::pf::metrics::{pooled, BankMetrics, BankTally, FilterMetrics, FilterTally};
 use crate::tracking::pf::peaks::PeakOptions;
 use crate::tracking::pf::resample::Resampling;
 use crate::tracking::pf::run::{track_run, RunSpec};
@@ -81,6 +81,56 @@ pub struct CellResult {
     pub all: FilterMetrics,
     /// Per filter.
     pub filters: Vec<FilterMetrics>,
+    /// Lower end of the 95 % percentile-bootstrap interval of `all` over runs.
+    pub lo: FilterMetrics,
+    /// Upper end of the same interval.
+    pub hi: FilterMetrics,
+    /// GOSPA and identity measures of the bank.
+    pub bank: BankMetrics,
+}
+
+/// Resamples drawn by [`bootstrap`] in [`study`].
+pub const BOOTSTRAP_RESAMPLES: usize = 1000;
+
+/// 95 % percentile bootstrap of the pooled metrics over runs: `runs[r]` is run `r`'s tally
+/// pooled over the filters; `resamples` resamples of the runs with replacement drawn from
+/// `seed`. Returns the 2.5 % and 97.5 % quantiles of every metric.
+pub fn bootstrap(
+    runs: &[FilterTally],
+    resamples: usize,
+    seed: u64,
+) -> (FilterMetrics, FilterMetrics) {
+    use rand::RngExt;
+    let all = pooled(runs).metrics();
+    if runs.len() < 2 || resamples == 0 {
+        return (all, all);
+    }
+    let mut rng = crate::score::monte_carlo::stream(seed ^ 0x9f_b007, runs.len() as u64);
+    let mut draws: Vec<[f64; 5]> = Vec::with_capacity(resamples);
+    for _ in 0..resamples {
+        let mut t = FilterTally::default();
+        for _ in 0..runs.len() {
+            t.merge(&runs[rng.random_range(0..runs.len())]);
+        }
+        let m = t.metrics();
+        draws.push([m.pca, m.hit, m.rmse, m.coverage, m.held]);
+    }
+    let mut q = [[0.0; 5]; 2];
+    for k in 0..5 {
+        let mut v: Vec<f64> = draws.iter().map(|d| d[k]).collect();
+        v.sort_by(f64::total_cmp);
+        let at = |p: f64| v[((p * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)];
+        q[0][k] = at(0.025);
+        q[1][k] = at(0.975);
+    }
+    let m = |a: [f64; 5]| FilterMetrics {
+        pca: a[0],
+        hit: a[1],
+        rmse: a[2],
+        coverage: a[3],
+        held: a[4],
+    };
+    (m(q[0]), m(q[1]))
 }
 
 /// The paper's cells: both methods at 0, 1, ..., 20 dB with `X_max = 3`, `V_max = 0.5`, and
@@ -179,12 +229,15 @@ pub fn study(
         .flat_map(|r| (0..groups.len()).map(move |g| (g, r)))
         .collect();
     let mut tallies = vec![vec![FilterTally::default(); targets]; cells.len()];
+    // Per cell, each run's tally pooled over the filters, in run order.
+    let mut per_run: Vec<Vec<FilterTally>> = vec![Vec::with_capacity(opts.runs); cells.len()];
+    let mut banks = vec![BankTally::default(); cells.len()];
     let batch = 4 * rayon::current_num_threads();
     for chunk in jobs.chunks(batch) {
         if interrupt() {
             return Err(Error::Interrupted);
         }
-        let out: Vec<Vec<Vec<FilterTally>>> = chunk
+        let out: Vec<(Vec<Vec<FilterTally>>, Vec<BankTally>)> = chunk
             .par_iter()
             .map(|&(g, r)| {
                 let (snr, _, _, ref members) = groups[g];
@@ -197,6 +250,7 @@ pub fn study(
                     .map(|&c| cell_config(&cells[c], &spec, opts))
                     .collect();
                 let mut t = vec![vec![FilterTally::default(); targets]; members.len()];
+                let mut bt = vec![BankTally::default(); members.len()];
                 let truth_states = spec.truth();
                 track_run(
                     &spec,
@@ -205,30 +259,45 @@ pub fn study(
                         for (i, ti) in t[b].iter_mut().enumerate() {
                             ti.observe(i, step, &truth_states.states[k]);
                         }
+                        bt[b].observe(step, &truth_states.states[k]);
                     },
                     &mut || false,
                 )?;
                 for tb in &mut t {
                     tb.iter_mut().for_each(FilterTally::finish_run);
                 }
-                Ok(t)
+                bt.iter_mut().for_each(BankTally::finish_run);
+                Ok((t, bt))
             })
             .collect::<Result<_>>()?;
-        for (&(g, _), t) in chunk.iter().zip(out) {
+        for (&(g, _), (t, bt)) in chunk.iter().zip(out) {
+            for (&c, b) in groups[g].3.iter().zip(&bt) {
+                banks[c].merge(b);
+            }
             for (&c, tc) in groups[g].3.iter().zip(t) {
                 for (acc, x) in tallies[c].iter_mut().zip(&tc) {
                     acc.merge(x);
                 }
+                per_run[c].push(pooled(&tc));
             }
         }
     }
     Ok(cells
         .iter()
         .zip(&tallies)
-        .map(|(cell, t)| CellResult {
-            cell: *cell,
-            all: pooled(t).metrics(),
-            filters: t.iter().map(FilterTally::metrics).collect(),
+        .zip(&per_run)
+        .enumerate()
+        .map(|(c, ((cell, t), runs))| {
+            let bank = banks[c].metrics();
+            let (lo, hi) = bootstrap(runs, BOOTSTRAP_RESAMPLES, opts.seed ^ c as u64);
+            CellResult {
+                cell: *cell,
+                all: pooled(t).metrics(),
+                filters: t.iter().map(FilterTally::metrics).collect(),
+                lo,
+                hi,
+                bank,
+            }
         })
         .collect())
 }
