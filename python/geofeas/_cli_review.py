@@ -54,6 +54,18 @@ def main(args: argparse.Namespace) -> int:
     return 0
 
 
+def review_demo(out: str | Path, *, host: str = "127.0.0.1", port: int = 0) -> None:
+    """Serve the review station on the picture ``geofeas demo`` wrote into ``out``
+    (``reports.csv``), with the decision log ``out/decisions.sqlite``."""
+    folder = Path(out)
+    picture = folder / "reports.csv"
+    if not picture.is_file():
+        raise GeofeasError(f"--review: {picture}: the demo's reports are missing")
+    from .review import serve
+
+    serve(picture, str(folder / "decisions.sqlite"), host=host, port=port, operator=_operator())
+
+
 def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     p = sub.add_parser(
         "review",
