@@ -212,3 +212,58 @@ def test_cli_errors_name_the_argument(tmp_path, capsys):
     picture().to_csv(good, index=False)
     assert main(["review", str(good), "--db", str(tmp_path / "no" / "d.sqlite")]) == 2
     assert "db:" in capsys.readouterr().err
+
+
+def test_coastline_is_the_isle_of_wight():
+    """GSHHG decoded from GMT's binned file runs past the Isle of Wight's headlands (St
+    Catherine's Point 50.5755 N 1.2975 W, the Needles 50.6625 N 1.5880 W, Foreland 50.6796 N
+    1.0706 W) within 400 m, and stays kilometres from a point in the Channel."""
+    import shapely
+
+    from geofeas.review.coast import coastline
+
+    if gshhg_file() is None:
+        pytest.skip("no GSHHG file installed (apt-get install gmt-gshhg-high)")
+    c = coastline(50.50, -1.70, 50.70, -1.00)
+    from geofeas.scenario import metres_per_degree
+
+    m_lat, m_lon = metres_per_degree(50.6)
+    scale = np.array([m_lon, m_lat])
+    shore = shapely.MultiLineString([line * scale for line in c.lines])
+
+    def metres(lat, lon):
+        return shore.distance(shapely.Point(lon * scale[0], lat * scale[1]))
+
+    for lat, lon in ((50.5755, -1.2975), (50.6625, -1.5880), (50.6796, -1.0706)):
+        assert metres(lat, lon) < 400
+    assert metres(50.52, -1.30) > 4000
+
+
+def test_ellipses_match_an_eigen_decomposition(rng):
+    from geofeas.review.station import _aou_cov, ellipses
+
+    cov = []
+    for _ in range(50):
+        a = rng.normal(size=(2, 2)) * 100
+        s = a @ a.T
+        cov.append([s[0, 0], s[0, 1], s[1, 1]])
+    cov = np.array(cov)
+    e = ellipses(cov)
+    for (xx, xy, yy), (major, minor, angle) in zip(cov, e, strict=True):
+        w, v = np.linalg.eigh(np.array([[xx, xy], [xy, yy]]))
+        assert major == pytest.approx(2 * math.sqrt(w[1]), rel=1e-9)
+        assert minor == pytest.approx(2 * math.sqrt(max(w[0], 0)), rel=1e-6, abs=1e-9)
+        u = np.array([math.cos(math.radians(angle)), math.sin(math.radians(angle))])
+        assert abs(u @ v[:, 1]) == pytest.approx(1.0, abs=1e-9)
+    # a report's AOU (rx along the bearing, clockwise from north) comes back as drawn
+    aou = np.array([[50.0, -1.0, 300.0, 100.0, 30.0]])
+    major, minor, angle = ellipses(_aou_cov(aou, geographic=True))[0]
+    assert (major, minor) == (pytest.approx(300.0), pytest.approx(100.0))
+    assert angle % 180 == pytest.approx(60.0)  # 30 deg from north = 60 deg from east
+
+
+def test_review_demo_needs_the_demo_reports(tmp_path):
+    from geofeas._cli_review import review_demo
+
+    with pytest.raises(geofeas.GeofeasError, match="reports.csv"):
+        review_demo(tmp_path)
