@@ -267,3 +267,31 @@ def test_review_demo_needs_the_demo_reports(tmp_path):
 
     with pytest.raises(geofeas.GeofeasError, match="reports.csv"):
         review_demo(tmp_path)
+
+
+def test_a_restart_loses_nothing_and_two_stations_share_the_log(tmp_path):
+    import time
+
+    path = tmp_path / "picture.csv"
+    picture().to_csv(path, index=False)
+    db = tmp_path / "d.sqlite"
+    one = Station(path, db, background=False)
+    top = one.snapshot.queue.iloc[0]
+    two = Station(path, db, background=True, poll=0.05)
+    before = two.snapshot.version
+    one.log.decide("ann", top.track_a, top.track_b, "same", p_same=float(top.p_same))
+    # the second station sees the row appended by the first and re-associates (bounded wait)
+    for _ in range(600):
+        snap = two.snapshot
+        if snap.version > before and snap.position == two.log.position():
+            break
+        time.sleep(0.05)
+    assert snap.position == 1
+    assert two.pair_row(top.track_a, top.track_b, snap)["class"] == "match"
+    two.close()
+    one.close()
+    # a new station on the same files starts from the decisions made
+    three = Station(path, db, background=False)
+    assert [(e.operator, e.action) for e in three.log.decisions()] == [("ann", "same")]
+    assert three.pair_row(top.track_a, top.track_b)["class"] == "match"
+    assert three.progress()["decided"] == 1
