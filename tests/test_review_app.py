@@ -110,6 +110,8 @@ def test_decide_needs_the_csrf_token_and_valid_input(client, station, tmp_path):
     assert r.status_code == 400 and "unknown track id 'ghost'" in r.json()["error"]
     r = _post(client, "/api/decide", {**body, "seen": -1})
     assert r.status_code == 400 and "seen" in r.json()["error"]
+    r = _post(client, "/api/decide", {**body, "p_same": 1.5})
+    assert r.status_code == 400 and "p_same" in r.json()["error"]
     r = client.post("/api/decide", content="x", headers={"X-CSRF-Token": "tok"})
     assert r.status_code == 400 and "JSON" in r.json()["error"]
     assert station.log.entries() == []
@@ -118,6 +120,15 @@ def test_decide_needs_the_csrf_token_and_valid_input(client, station, tmp_path):
     (e,) = station.log.entries()
     assert (e.operator, e.action) == ("ann", "same")
     assert e.p_same == pytest.approx(float(top.p_same))
+    # the probability the page showed is what the log keeps
+    other = station.snapshot.queue.iloc[-1]
+    r = _post(
+        client,
+        "/api/decide",
+        {**body, "track_a": other.track_a, "track_b": other.track_b, "p_same": 0.25},
+    )
+    assert r.status_code == 200, r.text
+    assert station.log.entries()[-1].p_same == 0.25
 
 
 def test_conflicting_decision_is_refused_with_409(client, station):

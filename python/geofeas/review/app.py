@@ -357,12 +357,19 @@ def create_app(
             action = field(data, "decision", str)
             operator = field(data, "operator", str)
             seen = field(data, "seen", int)
+            shown = data.get("p_same")
+            if shown is not None and (
+                isinstance(shown, bool)
+                or not isinstance(shown, (int, float))
+                or not 0.0 <= shown <= 1.0
+            ):
+                raise GeofeasError(f"p_same: expected the probability shown, got {shown!r}")
 
             def write() -> Any:
-                row = station.pair_row(a, b)
-                return station.log.decide(
-                    operator, a, b, action, p_same=float(row["p_same"]), seen=seen
-                )
+                row = station.pair_row(a, b)  # a candidate pair of the picture
+                # the probability the operator saw; the current one when the page sent none
+                p = float(shown) if shown is not None else float(row["p_same"])
+                return station.log.decide(operator, a, b, action, p_same=p, seen=seen)
 
             entry = await run_in_threadpool(write)
         except Conflict as exc:

@@ -44,7 +44,7 @@
     }
     const r = await post("/api/decide", {
       track_a: state.a, track_b: state.b, decision: action,
-      operator: operator, seen: state.seen,
+      operator: operator, seen: state.seen, p_same: state.p_same,
     });
     if (r.status === 200) {
       show("Saved: " + r.data.message, "ok");
@@ -106,6 +106,7 @@
         const p = await (await fetch("/api/pair?" + q, { cache: "no-store" })).json();
         if (p.p_same !== undefined) {
           document.getElementById("p-same").textContent = (100 * p.p_same).toFixed(1) + " %";
+          state.p_same = p.p_same;
           state.version = p.version;
         }
       }
