@@ -46,6 +46,23 @@ class Coastline:
     def __init__(self, lines: list[np.ndarray], source: str | None) -> None:
         self.lines = lines
         self.source = source
+        self._geometry: object = None
+
+    def clip(self, south: float, west: float, north: float, east: float) -> list[np.ndarray]:
+        """The polylines inside a smaller box (in memory: no file is read)."""
+        import shapely
+
+        if not self.lines:
+            return []
+        if self._geometry is None:
+            self._geometry = shapely.MultiLineString(self.lines)
+        clipped = shapely.clip_by_rect(self._geometry, west, south, east, north)
+        parts = getattr(clipped, "geoms", [clipped])
+        return [
+            np.asarray(g.coords, dtype=np.float64)
+            for g in parts
+            if not g.is_empty and g.geom_type == "LineString"
+        ]
 
 
 @functools.lru_cache(maxsize=32)

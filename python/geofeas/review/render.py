@@ -16,7 +16,6 @@ from typing import Any, cast
 import numpy as np
 
 from ..scenario import metres_per_degree
-from .coast import coastline
 from .station import PairDetail
 
 __all__ = ["BANDS", "distance_svg", "map_svg", "pair_payload"]
@@ -107,12 +106,13 @@ def map_svg(d: PairDetail) -> str:
     if d.origin is not None:
         lat0, lon0 = d.origin
         m_lat, m_lon = (float(v) for v in metres_per_degree(lat0))
-        c = coastline(lat0 + y0 / m_lat, lon0 + x0 / m_lon, lat0 + y1 / m_lat, lon0 + x1 / m_lon)
+        c = d.coast
         if c.source is None:
             coast_note = "no coastline: install gmt-gshhg-high (GSHHG)"
         else:
             coast_note = "coastline: GSHHG 2.3"
-            for line in c.lines:
+            box = (lat0 + y0 / m_lat, lon0 + x0 / m_lon, lat0 + y1 / m_lat, lon0 + x1 / m_lon)
+            for line in c.clip(*box):
                 xy = np.c_[(line[:, 0] - lon0) * m_lon, (line[:, 1] - lat0) * m_lat]
                 out.append(f'<polyline class="coast" points="{_path(fr, xy)}"/>')
     # rival tracks, faded

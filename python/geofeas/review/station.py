@@ -23,6 +23,7 @@ from .. import _core
 from .._core import GeofeasError
 from ..association import Association, Reports, associate, read_reports
 from ..scenario import metres_per_degree
+from .coast import Coastline, coastline
 from .log import DecisionLog, spans_of
 
 __all__ = ["PairDetail", "Snapshot", "Station"]
@@ -55,6 +56,8 @@ class PairDetail:
     rivals: dict[str, np.ndarray]
     #: ``(lat0, lon0)`` of the frame origin (``None`` for planar pictures)
     origin: tuple[float, float] | None
+    #: the picture's coastline, read once when the station starts
+    coast: Coastline
 
 
 def ellipses(cov: np.ndarray) -> np.ndarray:
@@ -131,6 +134,7 @@ class Station:
         np.maximum.at(end, self.reports.track, self.reports.time)
         self.track_start, self.track_end = start, end
         self._pos = self._track_positions()
+        self.coast = self._coastline()
         self._lock = threading.Lock()
         self._wake = threading.Event()
         self._stop = threading.Event()
@@ -156,6 +160,20 @@ class Station:
         for k in range(n):
             out[k] = np.median(aou[bounds[k] : bounds[k + 1], :2], axis=0)
         return out
+
+    def _coastline(self) -> Coastline:
+        """The GSHHG shoreline of the picture's area (read once, at start: the web requests
+        never open a file), or an empty one for planar pictures."""
+        if self.reports.coords != "geographic" or len(self.reports) == 0:
+            return Coastline([], None)
+        lat, lon = self.reports.aou[:, 0], self.reports.aou[:, 1]
+        pad = 0.05
+        return coastline(
+            float(lat.min()) - pad,
+            float(lon.min()) - pad,
+            float(lat.max()) + pad,
+            float(lon.max()) + pad,
+        )
 
     def _compute(self) -> Snapshot:
         position = self.log.position()
@@ -362,7 +380,7 @@ class Station:
                     continue
                 aou = rep.aou[sel]
                 rivals[r] = np.c_[local(aou), ellipses(_aou_cov(aou, geographic))]
-        return PairDetail(row, t, ell_a, ell_b, sigma, infl, rivals, origin)
+        return PairDetail(row, t, ell_a, ell_b, sigma, infl, rivals, origin, self.coast)
 
     @staticmethod
     def _inflation(result: Association, sa: str, sb: str) -> float:
