@@ -214,12 +214,21 @@ def test_review_station_in_a_real_browser(served, browser):
     served_csv = page.request.get(url + "decisions.csv").text()
     assert list(csv.DictReader(served_csv.splitlines())) == exported
 
-    # undo with the keyboard appends a reversal
-    page.goto(f"{url}pair?a={target[0]}&b={target[1]}")
+    # undo with the keyboard appends a reversal, then the page reloads the pair
+    target_url = f"{url}pair?a={target[0]}&b={target[1]}"
+    page.goto(target_url)
     page.evaluate("document.activeElement.blur()")
-    page.keyboard.press("u")
-    page.wait_for_selector("#message.ok")
+    with page.expect_navigation():
+        page.keyboard.press("u")
     assert [e.action for e in log.entries()][-1] == "undo"
+    assert len(log.decisions()) == 1
+
+    # skip with the keyboard: logged, decides nothing, moves on to another pair
+    page.evaluate("document.activeElement.blur()")
+    with page.expect_navigation():
+        page.keyboard.press("k")
+    assert page.url != target_url
+    assert [(e.operator, e.action) for e in log.entries()][-1] == ("ann", "skip")
     assert len(log.decisions()) == 1
     ctx1.close()
     ctx2.close()
