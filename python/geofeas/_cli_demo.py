@@ -130,6 +130,10 @@ def main(args: argparse.Namespace) -> int:
             )
     written = write_outputs(result, args.out, map_png=not args.no_map)
     print(f"\nwrote {', '.join(str(p) for p in written)}")
+    if args.review:
+        from ._cli_review import review_demo
+
+        review_demo(args.out)
     return 0
 
 
@@ -182,6 +186,12 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument("--no-map", action="store_true", help="do not draw map.png")
     p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    p.add_argument(
+        "--review",
+        action="store_true",
+        help="then open the review station on the simulated picture (decisions in "
+        "OUT/decisions.sqlite)",
+    )
     p.set_defaults(func=main)
 
 

@@ -310,6 +310,20 @@ def assign_one_to_one(
     min_score: float = 0.0,
 ) -> NDArray[np.uint64]: ...
 def association_default_upper() -> float: ...
+def association_pair_instants(
+    track: NDArray[np.uint32],
+    source: NDArray[np.uint32],
+    time: NDArray[np.float64],
+    aou: NDArray[np.float64],
+    n_tracks: int,
+    a: int,
+    b: int,
+    *,
+    geographic: bool,
+    max_gap: float = 300.0,
+    horizon: float = 0.0,
+    process_noise: float = 2.0,
+) -> dict[str, NDArray[np.float64]]: ...
 def association_pair_stats(
     track: NDArray[np.uint32],
     source: NDArray[np.uint32],

@@ -11,7 +11,15 @@ from collections.abc import Sequence
 from ._core import GeofeasError, __version__
 
 #: Modules providing sub-commands, in the order ``--help`` lists them.
-SUBCOMMANDS = ["_cli_score", "_cli_demo", "_cli_associate", "_cli_mht", "_cli_pf", "_cli_figures"]
+SUBCOMMANDS = [
+    "_cli_score",
+    "_cli_demo",
+    "_cli_associate",
+    "_cli_mht",
+    "_cli_pf",
+    "_cli_figures",
+    "_cli_review",
+]
 
 
 def build_parser() -> argparse.ArgumentParser:

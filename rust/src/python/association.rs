@@ -1,6 +1,6 @@
 //! Bindings of the association pipeline (`crate::association`).
 
-use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -350,11 +350,72 @@ fn association_default_upper() -> f64 {
     association::combine::default_upper()
 }
 
+/// The common instants of tracks `a` and `b` (dense ids) as the association aligns them: the
+/// times, the squared Mahalanobis distance `d^T S^-1 d` of each instant (`S = R_a + R_b`, before
+/// inflation) and both aligned states as `(n, 5)` rows `pos0, pos1, cov_xx, cov_xy, cov_yy`
+/// (positions as given: metres or `lat, lon` degrees; covariances in m^2, x east, y north).
+#[pyfunction]
+#[pyo3(signature = (track, source, time, aou, n_tracks, a, b, *, geographic, max_gap=300.0,
+    horizon=0.0, process_noise=2.0))]
+#[allow(clippy::too_many_arguments)]
+fn association_pair_instants<'py>(
+    py: Python<'py>,
+    track: PyReadonlyArray1<'py, u32>,
+    source: PyReadonlyArray1<'py, u32>,
+    time: PyReadonlyArray1<'py, f64>,
+    aou: PyReadonlyArray2<'py, f64>,
+    n_tracks: usize,
+    a: usize,
+    b: usize,
+    geographic: bool,
+    max_gap: f64,
+    horizon: f64,
+    process_noise: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    for (what, k) in [("a", a), ("b", b)] {
+        if k >= n_tracks {
+            return Err(Error::Invalid(format!(
+                "{what}: track index {k} is not below n_tracks = {n_tracks}"
+            ))
+            .into());
+        }
+    }
+    let r = reports(&track, &source, &time, &aou, n_tracks, geographic)?;
+    let align = Alignment {
+        max_gap,
+        horizon,
+        process_noise,
+    }
+    .validated()?;
+    let (t, m, sa, sb) = py.detach(|| {
+        let inst = association::align::common_instants(&r, a, b, &align);
+        let n = inst.len();
+        let (mut t, mut m) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        let (mut sa, mut sb) = (Vec::with_capacity(5 * n), Vec::with_capacity(5 * n));
+        for i in &inst {
+            t.push(i.time);
+            m.push(association::gaussian_instant(r.coords, &i.a, &i.b)[0]);
+            for (out, s) in [(&mut sa, &i.a), (&mut sb, &i.b)] {
+                out.extend_from_slice(&[s.pos[0], s.pos[1], s.cov[0], s.cov[1], s.cov[2]]);
+            }
+        }
+        (t, m, sa, sb)
+    });
+    let n = t.len();
+    let d = PyDict::new(py);
+    d.set_item("time", t.into_pyarray(py))?;
+    d.set_item("m", m.into_pyarray(py))?;
+    d.set_item("state_a", sa.into_pyarray(py).reshape([n, 5])?)?;
+    d.set_item("state_b", sb.into_pyarray(py).reshape([n, 5])?)?;
+    Ok(d)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(associate, m)?)?;
     m.add_function(wrap_pyfunction!(association_candidates, m)?)?;
     m.add_function(wrap_pyfunction!(combine_instants, m)?)?;
     m.add_function(wrap_pyfunction!(assign_one_to_one, m)?)?;
     m.add_function(wrap_pyfunction!(association_default_upper, m)?)?;
+    m.add_function(wrap_pyfunction!(association_pair_instants, m)?)?;
     Ok(())
 }
