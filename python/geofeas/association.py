@@ -543,18 +543,28 @@ class Association:
 
 
 def write_table(frame: pd.DataFrame, path: str | os.PathLike[str]) -> None:
-    """Write a table to ``.csv`` or ``.parquet`` by extension."""
+    """Write a table to ``.csv`` or ``.parquet`` by extension, atomically: through a temporary
+    file in the destination folder, renamed over ``path`` once complete."""
+    import tempfile
+
     p = Path(path)
     suffix = p.suffix.lower()
-    if suffix == ".csv":
-        frame.to_csv(p, index=False)
-    elif suffix in (".parquet", ".pq"):
-        try:
-            frame.to_parquet(p, index=False)
-        except ImportError as exc:  # pragma: no cover
-            raise GeofeasError(f"{p}: writing Parquet needs pyarrow ({exc})") from None
-    else:
+    if suffix not in (".csv", ".parquet", ".pq"):
         raise GeofeasError(f"{p}: unknown file type {suffix!r} (expected .csv or .parquet)")
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=p.parent)
+    os.close(fd)
+    try:
+        if suffix == ".csv":
+            frame.to_csv(tmp, index=False)
+        else:
+            try:
+                frame.to_parquet(tmp, index=False)
+            except ImportError as exc:  # pragma: no cover
+                raise GeofeasError(f"{p}: writing Parquet needs pyarrow ({exc})") from None
+        os.replace(tmp, p)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
 
 
 def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, Any]]:

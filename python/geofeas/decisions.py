@@ -36,7 +36,11 @@ class Decisions:
     row, the two tracks' indices and whether they were declared the same."""
 
     def __init__(
-        self, frame: pd.DataFrame, a: NDArray[np.uint32], b: NDArray[np.uint32], same: NDArray[np.bool_]
+        self,
+        frame: pd.DataFrame,
+        a: NDArray[np.uint32],
+        b: NDArray[np.uint32],
+        same: NDArray[np.bool_],
     ) -> None:
         self.frame = frame
         self.a = a
