@@ -13,11 +13,18 @@ import geofeas  # noqa: E402
 import geofeas.arrow as ga  # noqa: E402
 
 
-def reports(seed: int = 5, ships: int = 12) -> pd.DataFrame:
+def reports(seed: int = 5, ships: int = 12, twin: float | None = None) -> pd.DataFrame:
+    """AIS and radar tracks of ``ships`` ships; with ``twin``, ship 1 sails ``twin`` metres
+    beside ship 0, closer than the radar can tell apart."""
     rng = np.random.default_rng(seed)
     rows = []
+    first = None
     for i in range(ships):
         p0, v = rng.uniform(0, 5000, 2), rng.uniform(-5, 5, 2)
+        if i == 0:
+            first = p0, v
+        elif i == 1 and twin is not None:
+            p0, v = first[0] + [twin, 0.0], first[1]
         for source, step, r in (("ais", 30.0, 20.0), ("radar", 10.0, 90.0)):
             t = np.arange(0, 900, step) + rng.uniform(0, step)
             xy = p0 + v * t[:, None] + rng.normal(0, r / 2, (t.size, 2))
@@ -69,16 +76,66 @@ def test_dictionary_columns_and_timestamps_read_as_values(tmp_path):
 
 
 def test_results_out_as_arrow_and_parquet(tmp_path):
-    result = geofeas.associate(reports())
+    df = reports(twin=20.0)
+    result = geofeas.associate(df)
+    classes = set(result.pairs["class"])
+    assert {"match", "non-match", "borderline"} <= classes
     pairs = ga.pairs_table(result)
-    assert pairs.column_names == ["track_a", "track_b", "score", "instants", "class"]
+    assert pairs.column_names == list(result.pairs.columns)
+    # the file contract first, then the posterior and the model's details
+    assert pairs.column_names[:7] == [
+        "track_a",
+        "track_b",
+        "score",
+        "instants",
+        "class",
+        "p_same",
+        "review_rank",
+    ]
+    for name in ("llr", "std_error", "review_gain", "settles_same", "settles_different"):
+        assert name in pairs.column_names
     assert pairs.num_rows == len(result.pairs)
-    np.testing.assert_array_equal(pairs.column("score").to_numpy(), result.pairs["score"])
+    for name in ("score", "p_same", "llr", "std_error", "review_gain"):
+        assert pairs.schema.field(name).type == pa.float64()
+        np.testing.assert_array_equal(pairs.column(name).to_numpy(), result.pairs[name])
+    for name in ("review_rank", "component", "settles_same", "settles_different", "instants"):
+        assert pa.types.is_integer(pairs.schema.field(name).type), name
+    # review_rank: null exactly for the pairs that are not borderline, never 0 or NaN
+    rank = pairs.column("review_rank")
+    borderline = (result.pairs["class"] == "borderline").to_numpy()
+    assert rank.null_count == int((~borderline).sum()) > 0
+    got = np.array(rank.to_pylist(), dtype=object)
+    assert sorted(got[borderline].tolist()) == list(range(1, int(borderline.sum()) + 1))
+    objects = ga.objects_table(result)
+    assert objects.column_names == ["track_id", "object", "source", "p_alone"]
+    np.testing.assert_array_equal(objects.column("p_alone").to_numpy(), result.objects["p_alone"])
+
     ga.write_parquet(result, tmp_path / "out")
-    back = pq.read_table(tmp_path / "out" / "pairs.parquet").to_pandas()
-    pd.testing.assert_frame_equal(back, result.pairs, check_dtype=False)
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
+        "objects.parquet",
+        "pairs.parquet",
+    ]  # no temporary file left behind
+    raw = pq.read_table(tmp_path / "out" / "pairs.parquet")
+    assert raw.schema.field("review_rank").type == pairs.schema.field("review_rank").type
+    assert raw.column("review_rank").null_count == rank.null_count
+    back = raw.to_pandas()
+    pd.testing.assert_frame_equal(back, result.pairs, check_exact=True)
     objects = pq.read_table(tmp_path / "out" / "objects.parquet").to_pandas()
-    pd.testing.assert_frame_equal(objects, result.objects, check_dtype=False)
+    pd.testing.assert_frame_equal(objects, result.objects, check_exact=True)
+
+
+def test_decisions_as_an_arrow_table():
+    df = reports()
+    base = geofeas.associate(df)
+    m = base.matches
+    decided = pd.DataFrame(
+        {"track_a": [m["track_a"][0]], "track_b": [m["track_b"][0]], "decision": ["different"]}
+    )
+    want = geofeas.associate(df, decisions=decided)
+    got = ga.associate(pa.Table.from_pandas(df), decisions=pa.Table.from_pandas(decided))
+    pd.testing.assert_frame_equal(got.pairs, want.pairs, check_exact=True)
+    p = got.pairs.set_index(["track_a", "track_b"])["p_same"]
+    assert p[(m["track_a"][0], m["track_b"][0])] == 0.0
 
 
 def test_bad_arrow_input_raises_geofeas_error(tmp_path):

@@ -1,8 +1,10 @@
 """Distributed association on a real ``distributed.LocalCluster`` equals the single-machine one.
 
-Every comparison is exact: the same pairs, bit-identical scores, the same numbers of instants,
-classes and objects as ``geofeas.associate`` on the whole picture, with and without a worker
-process killed in the middle of the run. The cluster listens on the loopback interface only.
+Every comparison is exact: the same pairs, bit-identical scores and posteriors (``p_same``,
+``p_alone``), the same numbers of instants, classes, review order, components and objects as
+``geofeas.associate`` on the whole picture, with and without operator decisions, with and
+without a worker process killed in the middle of the run. The cluster listens on the loopback
+interface only.
 """
 
 from __future__ import annotations
@@ -39,20 +41,28 @@ def aou_cov(rx: np.ndarray, ry: np.ndarray, phi: np.ndarray) -> np.ndarray:
 
 
 def picture(
-    seed: int = 1, ships: int = 60, area: float = 30_000.0, hours: float = 1.0, noise: float = 1.0
+    seed: int = 1,
+    ships: int = 60,
+    area: float = 30_000.0,
+    hours: float = 1.0,
+    noise: float = 1.0,
+    apart: tuple[float, float] = (150.0, 400.0),
+    convoy: bool = False,
 ):
     """Ships seen by AIS (every 60 s, 10 m) and radar (every 20 s, elongated, track breaks).
 
-    A third of the ships sail in pairs 150-400 m apart, so that near-duplicates, borderline
+    A third of the ships sail in pairs ``apart`` metres apart, so that near-duplicates, rival
     pairs and grouping conflicts occur; times are seconds. The radar's errors are ``noise``
-    times what its AOUs claim.
+    times what its AOUs claim. With ``convoy``, the paired ships also share their speed.
     """
     rng = np.random.default_rng(seed)
     pos0 = rng.uniform(0, area, (ships, 2))
-    pos0[1 : ships // 3 : 2] = pos0[0 : ships // 3 - 1 : 2] + rng.uniform(150, 400, (1, 2))
+    pos0[1 : ships // 3 : 2] = pos0[0 : ships // 3 - 1 : 2] + rng.uniform(*apart, (1, 2))
     heading = rng.uniform(0, 2 * np.pi, ships)
     heading[1 : ships // 3 : 2] = heading[0 : ships // 3 - 1 : 2]
     speed = rng.uniform(3, 10, ships)
+    if convoy:
+        speed[1 : ships // 3 : 2] = speed[0 : ships // 3 - 1 : 2]
     vel = np.column_stack([np.sin(heading), np.cos(heading)]) * speed[:, None]
     frames = []
     duration = hours * 3600
@@ -118,14 +128,41 @@ def geographic(df: pd.DataFrame, lat0: float = 51.0, lon0: float = 179.8) -> pd.
 
 
 def assert_same(got, want) -> None:
-    """Exactly the single-machine result: pairs, bit-identical scores, classes, objects."""
+    """Exactly the single-machine result: pairs, bit-identical scores and posteriors, classes,
+    review order, components, objects."""
     assert len(want.pairs) > 0
     assert (want.pairs["class"] == "match").any() and (want.pairs["class"] != "match").any()
     pd.testing.assert_frame_equal(got.pairs, want.pairs, check_exact=True)
-    np.testing.assert_array_equal(got.pairs["score"].to_numpy(), want.pairs["score"].to_numpy())
+    for col in ("score", "p_same", "llr"):
+        np.testing.assert_array_equal(got.pairs[col].to_numpy(), want.pairs[col].to_numpy())
     pd.testing.assert_frame_equal(got.objects, want.objects, check_exact=True)
+    pd.testing.assert_frame_equal(got.components, want.components, check_exact=True)
     assert got.candidates == want.candidates
     assert got.inflation == want.inflation
+    assert got.coverage == want.coverage
+
+
+def components_across_tiles(got, tile) -> int:
+    """How many components of the candidate graph have pairs owned by different tiles."""
+    from geofeas._tiling import Grid, owner
+
+    tr = got.tracks
+    dims = sum(1 for c in tr.columns if c.startswith("lo"))
+    lo = tr[[f"lo{k}" for k in range(dims)]].to_numpy(np.float64)
+    hi = tr[[f"hi{k}" for k in range(dims)]].to_numpy(np.float64)
+    grid = Grid.covering(lo, hi, np.r_[np.full(dims - 1, tile[0]), tile[1]])
+    index = {t: k for k, t in enumerate(tr["track_id"])}
+    a = got.pairs["track_a"].map(index).to_numpy()
+    b = got.pairs["track_b"].map(index).to_numpy()
+    keys, meets = owner(lo[a], hi[a], lo[b], hi[b], grid)
+    assert meets.all()
+    tiles_per_component = (
+        pd.DataFrame({"component": got.pairs["component"], "tile": keys})
+        .dropna()
+        .groupby("component")["tile"]
+        .nunique()
+    )
+    return int((tiles_per_component > 1).sum())
 
 
 @pytest.fixture(scope="module")
@@ -148,6 +185,13 @@ def planar():
     return picture()
 
 
+@pytest.fixture(scope="module")
+def twins():
+    """Pairs of ships 10-30 m apart, closer than the radar can tell: borderline pairs, a review
+    order, components of rivals."""
+    return picture(seed=2, apart=(10.0, 30.0), convoy=True)
+
+
 # --------------------------------------------------------------------------- on the cluster
 
 
@@ -159,6 +203,22 @@ def test_cluster_result_equals_single_machine(client, planar, tile):
     if tile is not None:
         assert got.tiles > 10  # the picture really was cut, and tracks cross tile edges
         assert len(got.tracks) == planar["track_id"].nunique()
+        # components whose pairs were scored in different tiles: gathered whole
+        assert components_across_tiles(got, tile) > 0
+
+
+@pytest.mark.parametrize("tile", [(3000.0, 1800.0), None])
+def test_cluster_posterior_and_review_order_of_rivals(client, twins, tile):
+    want = geofeas.associate(twins)
+    assert (want.pairs["class"] == "borderline").sum() > 5  # a review order to compare
+    assert (want.components["tracks"] > 2).any()
+    got = gd.associate(dd.from_pandas(twins, npartitions=4), tile=tile)
+    assert_same(got, want)
+    pd.testing.assert_frame_equal(got.review_queue, want.review_queue, check_exact=True)
+    if tile is not None:
+        assert got.tiles > 10
+        # components whose pairs were scored in different tiles: gathered whole
+        assert components_across_tiles(got, tile) > 0
 
 
 def test_cluster_geographic_across_the_antimeridian_with_extrapolation(client, planar):
@@ -186,7 +246,10 @@ def test_cluster_estimated_inflation_of_understated_aous(client):
     [
         dict(inflation=1.3),
         dict(score="overlap", combine="geometric"),
-        dict(score="glr_threshold", combine="harmonic", lower=0.2, upper=0.4),
+        dict(score="glr_threshold", combine="harmonic", p_match=0.95, p_reject=0.05),
+        dict(completeness=0.8, false_tracks={"radar": 0.2}, density_cell=5000.0),
+        # every component sampled (seeded chains), not enumerated
+        dict(exact_limit=1, chains=2, sweeps=50, posterior_seed=3),
         dict(same_source=True, combine="pvalue", correlation_time=0.0),
         # seeded: a tile draws each pair's stream from the picture's track ids
         dict(score="monte_carlo", combine="arithmetic", samples=64, seed=5),
@@ -258,6 +321,57 @@ def test_local_scheduler_and_every_input_kind(planar, tmp_path):
     assert_same(gd.associate(str(csv), tile=(6000.0, 1e9)), geofeas.associate(str(csv)))
 
 
+def test_operator_decisions_give_the_single_machine_posterior(twins, tmp_path):
+    base = geofeas.associate(twins)
+    q = base.review_queue
+    assert len(q) >= 2
+    decided = pd.DataFrame(
+        {
+            "track_a": [q["track_a"][0], q["track_a"][1]],
+            "track_b": [q["track_b"][0], q["track_b"][1]],
+            "decision": ["same", "different"],
+            "operator": ["op1", "op2"],
+        }
+    )
+    path = tmp_path / "decisions.csv"
+    decided.to_csv(path, index=False)
+    want = geofeas.associate(twins, decisions=path)
+    got = gd.associate(twins, decisions=path, tile=(6000.0, 1e9), npartitions=3)
+    assert_same(got, want)
+    assert_same(gd.associate(twins, decisions=decided, tile=(4000.0, 1800.0)), want)
+    # the decisions were at work: the decided pairs are settled and their components changed
+    p = got.pairs.set_index(["track_a", "track_b"])["p_same"]
+    assert p[(q["track_a"][0], q["track_b"][0])] > 1.0 - 1e-12
+    assert p[(q["track_a"][1], q["track_b"][1])] < 1e-12
+    assert not np.array_equal(got.pairs["p_same"], base.pairs["p_same"])
+    pd.testing.assert_frame_equal(got.decisions.frame, want.decisions.frame)
+
+
+def test_contradictory_decisions_are_refused_as_on_one_machine(planar):
+    want = geofeas.associate(planar)
+    m = want.matches
+    a, b = m["track_a"][0], m["track_b"][0]
+    c = sorted(set(want.objects["track_id"]) - {a, b})[0]
+    bad = pd.DataFrame(
+        {"track_a": [a, b, a], "track_b": [b, c, c], "decision": ["same", "same", "different"]}
+    )
+    with pytest.raises(GeofeasError) as one:
+        geofeas.associate(planar, decisions=bad)
+    with pytest.raises(GeofeasError) as many:
+        gd.associate(planar, decisions=bad, tile=(6000.0, 1e9))
+    assert str(many.value) == str(one.value)
+
+
+def test_the_reports_read_reports_returns(planar):
+    rep = geofeas.read_reports(planar)
+    want = geofeas.associate(rep)
+    assert_same(gd.associate(rep, tile=(6000.0, 1e9), npartitions=3), want)
+    geo = geofeas.read_reports(geographic(planar))
+    got = gd.associate(geo, tile=(6000.0, 1800.0), npartitions=2)
+    assert got.reports.coords == "geographic"
+    assert_same(got, geofeas.associate(geo))
+
+
 def test_iso_times_and_numeric_ids(planar):
     iso = planar.assign(
         time=pd.to_datetime(planar["time"] + 1.7e9, unit="s", utc=True).dt.strftime(
@@ -300,14 +414,23 @@ def test_errors_name_the_row_of_the_whole_table(planar):
         gd.associate(dup, npartitions=4)
     with pytest.raises(GeofeasError, match="missing column"):
         gd.associate(planar.drop(columns="source"))
-    with pytest.raises(GeofeasError, match="upper"):
-        gd.associate(planar, upper=0.1)
+    with pytest.raises(GeofeasError, match="p_match"):
+        gd.associate(planar, p_match=0.1)
+    with pytest.raises(GeofeasError, match="false_tracks"):
+        gd.associate(planar, false_tracks={"sonar": 0.1})
+    with pytest.raises(TypeError, match="lower"):  # the options of geofeas.associate only
+        gd.associate(planar, lower=0.5)
     with pytest.raises(GeofeasError, match="too small"):
         gd.associate(planar, tile=(50.0, 60.0))
     with pytest.raises(GeofeasError, match="halo"):
         gd.associate(planar, halo=-1.0)
-    with pytest.raises(GeofeasError, match="margin"):
-        gd.associate(planar, margin=3.0)
+    with pytest.raises(GeofeasError, match="unknown track id"):
+        gd.associate(
+            planar,
+            decisions=pd.DataFrame(
+                {"track_a": ["ais-0"], "track_b": ["no-such"], "decision": ["same"]}
+            ),
+        )
 
 
 def test_missing_dask_gives_an_install_hint(monkeypatch):

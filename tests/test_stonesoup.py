@@ -25,6 +25,7 @@ from stonesoup.dataassociator.tracktotrack import (  # noqa: E402
 )
 from stonesoup.measures import Euclidean, SquaredMahalanobis  # noqa: E402
 from stonesoup.measures.multi import MeanMeasure, StateSequenceMeasure  # noqa: E402
+from stonesoup.types.association import TimeRangeAssociation  # noqa: E402
 from stonesoup.types.state import GaussianState, State  # noqa: E402
 from stonesoup.types.track import Track  # noqa: E402
 
@@ -32,7 +33,10 @@ import geofeas  # noqa: E402
 from geofeas.stonesoup import (  # noqa: E402
     GLRMeasure,
     OverlapMeasure,
+    PosteriorTrackAssociator,
+    ProbabilisticTimeRangeAssociation,
     ThresholdedGLRMeasure,
+    associate,
     reports_to_tracks,
     tracks_to_reports,
 )
@@ -320,6 +324,136 @@ def test_counting_with_glr_beats_counting_with_euclidean():
         association_threshold=0.99, measure=GLRMeasure(mapping=POS), pos_map=list(POS)
     )
     assert pairs_of(glr.associate_tracks(set(ais), set(df))) == DF_TRUE
+
+
+# --------------------------------------------------------------------------- the posterior
+
+
+def lonely_radar_track() -> Track:
+    """A radar track of a ship nobody else sees, 7 km north of the picture."""
+    extra = picture(seed=99, ships=1)[1][0]
+    extra.states[:] = [
+        cv_state(
+            np.asarray(s.state_vector)[[0, 2], 0] + [0.0, 7000.0],
+            [0, 0],
+            np.asarray(s.covar)[np.ix_(POS, POS)],
+            s.timestamp,
+        )
+        for s in extra.states
+    ]
+    extra.id = "radar-lonely"
+    return extra
+
+
+def test_posterior_of_stone_soup_tracks_recovers_the_true_pairs():
+    ais, radar = picture()
+    # the radar reports every 10 s but 4 s later than the AIS: no timestamp in common
+    radar = [
+        Track(
+            [
+                GaussianState(s.state_vector, s.covar, timestamp=s.timestamp + timedelta(seconds=4))
+                for s in t.states
+            ],
+            id=t.id,
+            init_metadata=dict(t.metadata),
+        )
+        for t in radar
+    ]
+    result = associate(ais + radar + [lonely_radar_track()], mapping=POS)
+    assert isinstance(result, geofeas.Association)
+    pairs = result.pairs.set_index(["track_a", "track_b"])
+    truth = {tuple(sorted(p)) for p in TRUE_PAIRS}
+    assert truth <= set(pairs.index)
+    for pair in pairs.index:
+        p = pairs.loc[pair, "p_same"]
+        if pair in truth:
+            assert p >= 0.99 and pairs.loc[pair, "class"] == "match"
+        else:
+            assert p <= 0.01 and pairs.loc[pair, "class"] == "non-match"
+    alone = result.objects.set_index("track_id")["p_alone"]
+    assert alone["radar-lonely"] == 1.0  # no candidate at all
+    assert (alone[[f"ais{i}" for i in range(4)]] < 0.01).all()
+
+
+def test_ships_closer_than_the_radar_can_tell_are_borderline():
+    """Two ships 50 m apart under a 300 m (1-sigma) radar AOU: the radar track is one of them,
+    and the geometry cannot say which."""
+    rng = np.random.default_rng(5)
+    times = [T0 + timedelta(seconds=10 * k) for k in range(30)]
+    t = 10.0 * np.arange(30)
+    velocity = np.array([[4.0, 1.0], [4.0, 1.0]])
+    truth = (
+        np.array([[0.0, 0.0], [50.0, 0.0]])[:, None, :] + velocity[:, None, :] * t[None, :, None]
+    )
+    ais = sensor_tracks(truth, velocity, [cov_from_axes(10, 10, 0)] * 2, rng, "ais", "ais", times)
+    radar = sensor_tracks(
+        truth[:1], velocity[:1], [cov_from_axes(300, 300, 0)], rng, "radar", "radar", times
+    )
+    result = associate(ais + radar, mapping=POS)
+    pairs = result.pairs.set_index(["track_a", "track_b"])
+    both = pairs.loc[[("ais0", "radar0"), ("ais1", "radar0")]]
+    assert (both["class"] == "borderline").all()
+    assert both["review_rank"].notna().all()
+    # one radar track is at most one ship: the two events exclude each other
+    assert both["p_same"].sum() <= 1.0 + 1e-12
+    assert set(result.review_queue["track_b"]) == {"radar0"}
+
+
+def test_posterior_track_associator_in_stone_soup_terms():
+    ais, radar = picture()
+    extra = lonely_radar_track()
+    associator = PosteriorTrackAssociator(mapping=POS, sources=["ais", "radar"])
+    associations = associator.associate_tracks(set(ais), set(radar) | {extra})
+    assert pairs_of(associations) == TRUE_PAIRS
+    tracks = {t.id: t for t in ais + radar}
+    p = associator.association.pairs.set_index(["track_a", "track_b"])["p_same"]
+    for a in associations.associations:
+        assert isinstance(a, ProbabilisticTimeRangeAssociation)
+        assert isinstance(a, TimeRangeAssociation)
+        one, two = sorted(a.objects, key=lambda t: t.id)
+        assert tracks[one.id] is one and tracks[two.id] is two  # Stone Soup's own objects
+        assert a.probability == p[(one.id, two.id)] >= 0.99
+        assert a.time_range.start_timestamp == T0
+        assert a.time_range.end_timestamp == one.states[-1].timestamp
+    # the same engine as a report table of the same tracks
+    want = geofeas.associate(
+        tracks_to_reports(
+            ais + radar + [extra],
+            source={
+                **{t.id: "ais" for t in ais},
+                **{t.id: "radar" for t in radar},
+                extra.id: "radar",
+            },
+        )
+    )
+    pd.testing.assert_frame_equal(associator.association.pairs, want.pairs, check_exact=True)
+
+
+def test_posterior_track_associator_takes_operator_decisions_and_options():
+    ais, radar = picture()
+    decided = pd.DataFrame({"track_a": ["ais0"], "track_b": ["radar0"], "decision": ["different"]})
+    associator = PosteriorTrackAssociator(
+        mapping=POS, decisions=decided, options=dict(p_match=0.999)
+    )
+    associations = associator.associate_tracks(set(ais), set(radar))
+    assert pairs_of(associations) == TRUE_PAIRS - {frozenset({"ais0", "radar0"})}
+    p = associator.association.pairs.set_index(["track_a", "track_b"])["p_same"]
+    assert p[("ais0", "radar0")] == 0.0
+    assert associator.association.options["p_match"] == 0.999
+
+
+def test_posterior_track_associator_errors_name_the_problem():
+    ais, radar = picture(steps=5)
+    with pytest.raises(geofeas.GeofeasError, match="2 names for 1 tracks sets"):
+        PosteriorTrackAssociator(mapping=POS, sources=["a", "b"]).associate_tracks(set(ais))
+    with pytest.raises(geofeas.GeofeasError, match="used twice"):
+        PosteriorTrackAssociator(mapping=POS).associate_tracks(set(ais), set(ais))
+    with pytest.raises(geofeas.GeofeasError, match="expected a Stone Soup track"):
+        PosteriorTrackAssociator(mapping=POS).associate_tracks({1, 2})
+    with pytest.raises(TypeError, match="lower"):
+        PosteriorTrackAssociator(mapping=POS, options=dict(lower=0.5)).associate_tracks(
+            set(ais), set(radar)
+        )
 
 
 # --------------------------------------------------------------------------- converters

@@ -355,7 +355,7 @@ def association_finish(
     a: NDArray[np.uint32],
     b: NDArray[np.uint32],
     stats: dict[str, NDArray[Any]],
-    counts: dict[str, Any],
+    counts: list[dict[str, Any]],
     decision_a: NDArray[np.uint32],
     decision_b: NDArray[np.uint32],
     decision_same: NDArray[np.bool_],

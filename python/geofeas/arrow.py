@@ -4,8 +4,12 @@ Arrow in: :func:`read_reports` takes a ``pyarrow.Table`` / ``RecordBatch`` (or a
 read with ``pyarrow.parquet``) and hands its columns to :func:`geofeas.read_reports` as one
 pandas frame: numeric columns convert without copies, dictionary-encoded columns (as Parquet
 writers produce for repeated strings) are decoded by Arrow, timestamp columns stay timestamps.
-Arrow out: :func:`pairs_table` / :func:`objects_table` and :func:`write_parquet`. No step loops
-over rows in Python.
+Arrow out: :func:`pairs_table` / :func:`objects_table` and :func:`write_parquet` carry every
+column of :attr:`geofeas.Association.pairs` and ``objects`` — the posterior ``p_same``, the
+class, ``review_rank`` (null for pairs that are not borderline), the model's details (``llr``,
+``std_error``, ``review_gain``, ``settles_same``, ``settles_different``, ``component``, null for
+a pair left out of every component) and ``p_alone`` per track — with their types: missing
+values stay nulls, never zeros or NaN. No step loops over rows in Python.
 """
 
 from __future__ import annotations
@@ -68,18 +72,25 @@ def read_reports(table: Any, /, *, coords: str = "auto") -> Reports:
     return _read(to_pandas(table), coords=coords)
 
 
-def associate(table: Any, /, **options: Any) -> Association:
-    """:func:`geofeas.associate` of an Arrow table, record batch or Parquet path."""
-    return _associate(read_reports(table, coords=options.pop("coords", "auto")), **options)
+def associate(table: Any, /, *, decisions: Any = None, **options: Any) -> Association:
+    """:func:`geofeas.associate` of an Arrow table, record batch or Parquet path; operator
+    ``decisions`` may be one too (or anything :func:`geofeas.associate` takes)."""
+    pa = _pyarrow()
+    if isinstance(decisions, (pa.Table, pa.RecordBatch)):
+        decisions = to_pandas(decisions)
+    rep = read_reports(table, coords=options.pop("coords", "auto"))
+    return _associate(rep, decisions=decisions, **options)
 
 
 def pairs_table(association: Association, /) -> Any:
-    """The pairs of an association as a ``pyarrow.Table``."""
+    """The pairs of an association (every column of :attr:`geofeas.Association.pairs`) as a
+    ``pyarrow.Table``; ``review_rank`` and ``component`` are nullable integers."""
     return _pyarrow().Table.from_pandas(association.pairs, preserve_index=False)
 
 
 def objects_table(association: Association, /) -> Any:
-    """The objects (track id, object, source) of an association as a ``pyarrow.Table``."""
+    """The objects (track id, object, source, ``p_alone``) of an association as a
+    ``pyarrow.Table``."""
     return _pyarrow().Table.from_pandas(association.objects, preserve_index=False)
 
 

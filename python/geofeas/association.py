@@ -573,7 +573,7 @@ class Association:
             np.ascontiguousarray(raw["a"], dtype=np.uint32),
             np.ascontiguousarray(raw["b"], dtype=np.uint32),
             raw["stats"],
-            raw["counts"],
+            [raw["counts"]],
             *dec._core_args(),
             geographic=self.reports.coords == "geographic",
             options=core,

@@ -1,10 +1,11 @@
 """Track-to-track association of a picture larger than one machine, on Dask.
 
-Install with ``pip install "geofeas[dask]"``. :func:`associate` takes the same reports and
-options as :func:`geofeas.associate` — a Dask DataFrame, a pandas DataFrame, a ``pyarrow.Table``
-or a path to Parquet / CSV files — and returns the same :class:`geofeas.Association` (the same
-pairs, bit-identical scores, the same classes and objects), computed on whatever Dask scheduler
-is active (a ``distributed.Client`` if one exists).
+Install with ``pip install "geofeas[dask]"``. :func:`associate` takes the same reports, options
+and operator decisions as :func:`geofeas.associate` — a Dask DataFrame, a pandas DataFrame, a
+``pyarrow.Table``, the :class:`geofeas.Reports` that :func:`geofeas.read_reports` returns or a
+path to Parquet / CSV files — and returns the same :class:`geofeas.Association` (the same pairs,
+bit-identical scores and posteriors, the same classes, review order and objects), computed on
+whatever Dask scheduler is active (a ``distributed.Client`` if one exists).
 
 How it is cut up (the argument in full is in ``docs/fusion-stacks.md``):
 
@@ -22,13 +23,20 @@ How it is cut up (the argument in full is in ``docs/fusion-stacks.md``):
    box meets (ids and sources replaced by their indices among the sorted ids, times by seconds:
    numbers only), in one shuffle; each tile then holds whole tracks and finds its candidate
    pairs with the engine's space-time index;
-3. a tile keeps, and scores, only the pairs it *owns*: those whose box intersection has its
-   lower corner in the tile (:mod:`geofeas._tiling`). Every candidate pair is therefore scored
-   exactly once, with the very reports, options and track order of the single-machine run;
-4. the covariance inflation of the chi-square rules (``inflation="auto"``), the triage classes
-   and the grouping into objects are global (one ship's tracks may cross tiles), so the tiles
-   return per-pair summaries and these steps run once, on the gathered pairs, with the
-   engine's own functions.
+3. a tile keeps, and summarises with the engine (``association_pair_stats``: the score and the
+   Gaussian evidence of the common instants), only the pairs it *owns*: those whose box
+   intersection has its lower corner in the tile (:mod:`geofeas._tiling`). Every candidate pair
+   is therefore scored exactly once, with the very reports, options and track order of the
+   single-machine run. A tile also takes the engine's picture counts (track-time per source and
+   per density cell, in whole microseconds) of the tracks whose *home* it is — the first tile
+   a track is copied into — so every track is counted once and the integer counts of all tiles
+   add up to the whole picture's exactly;
+4. everything global runs once, on the gathered pairs and the merged counts, in the engine's
+   own ``finish`` (the function the single-machine pipeline ends with): the covariance
+   inflation, the picture's object density and coverage, each pair's evidence, the posterior
+   of every connected component of the candidate graph (a component may span many tiles: it is
+   never cut, as its pairs are all gathered), the operator decisions, triage, review order and
+   objects.
 
 Tasks are pure functions of their inputs, so Dask's retry recomputes the work of a lost worker
 and the result does not change.
@@ -48,7 +56,7 @@ from . import _core
 from ._core import GeofeasError
 from ._tiling import Grid, explode, owner
 from .association import (
-    DEFAULT_UPPER,
+    ASSOCIATION_DEFAULTS,
     GEOGRAPHIC,
     PLANAR,
     Association,
@@ -56,6 +64,7 @@ from .association import (
     _resolve_options,
     read_reports,
 )
+from .decisions import Decisions, read_decisions
 
 try:
     import dask.dataframe as dd
@@ -317,7 +326,23 @@ def track_boxes(
     )
 
 
+def _frame_of(rep: Reports) -> pd.DataFrame:
+    """The reports that :func:`geofeas.read_reports` returned, as a table of parsed values
+    (ids and sources as given, times in seconds)."""
+    names = PLANAR if rep.coords == "planar" else GEOGRAPHIC
+    cols: dict[str, Any] = {
+        "track_id": rep.track_ids[rep.track],
+        "source": rep.sources[rep.source],
+        "time": rep.time,
+    }
+    for k, name in enumerate(names):
+        cols[name] = rep.aou[:, k]
+    return pd.DataFrame(cols)
+
+
 def _as_dask(reports: Any, npartitions: int | None) -> dd.DataFrame:
+    if isinstance(reports, Reports):
+        reports = _frame_of(reports)
     if isinstance(reports, dd.DataFrame):
         out = reports
     elif isinstance(reports, str) or hasattr(reports, "__fspath__"):
@@ -331,7 +356,8 @@ def _as_dask(reports: Any, npartitions: int | None) -> dd.DataFrame:
         if not isinstance(reports, pd.DataFrame):
             raise GeofeasError(
                 "reports: expected a Dask or pandas DataFrame, a pyarrow Table, a mapping of "
-                f"columns or a path to Parquet / CSV files, got {type(reports).__name__}"
+                "columns, geofeas Reports or a path to Parquet / CSV files, got "
+                f"{type(reports).__name__}"
             )
         parts = npartitions or max(1, min(64, len(reports) // 100_000 + 1))
         return dd.from_pandas(reports.reset_index(drop=True), npartitions=parts, sort=False)
@@ -408,37 +434,78 @@ def _tiles_meta(coords: str) -> pd.DataFrame:
     return pd.DataFrame(cols)
 
 
+#: The per-pair summaries a tile returns (``association_pair_stats``), after ``a`` and ``b``.
+_STATS = (
+    ("score", np.float64),
+    ("instants", np.uint32),
+    ("sum_m", np.float64),
+    ("k_eff", np.float64),
+    ("sum_mg", np.float64),
+    ("sum_ln_det", np.float64),
+    ("mean_trace_over_det", np.float64),
+    ("mean_inv_det", np.float64),
+    ("pos_0", np.float64),
+    ("pos_1", np.float64),
+)
+
+
 def _pairs_frame(n: int = 0) -> dict[str, Any]:
-    return {
-        "a": np.zeros(n, np.uint32),
-        "b": np.zeros(n, np.uint32),
-        "score": np.zeros(n),
-        "instants": np.zeros(n, np.int64),
-        "sum_m": np.zeros(n),
-        "k_eff": np.zeros(n),
-    }
+    out: dict[str, Any] = {"a": np.zeros(n, np.uint32), "b": np.zeros(n, np.uint32)}
+    for name, dtype in _STATS:
+        out[name] = np.zeros(n, dtype)
+    return out
+
+
+def _home_counts(
+    rep: Reports, home: NDArray[np.bool_], geographic: bool, options: dict[str, Any]
+) -> dict[str, Any] | None:
+    """The engine's picture counts of the tracks of ``rep`` whose home tile this is (each track
+    has exactly one, so the counts of all tiles add up to the whole picture's), with sources
+    as their indices among all the picture's sources."""
+    keep = home[rep.track]
+    if not keep.any():
+        return None
+    tracks, track = np.unique(rep.track[keep], return_inverse=True)
+    counts = _core.association_picture_counts(
+        np.ascontiguousarray(track.reshape(-1), dtype=np.uint32),
+        np.ascontiguousarray(rep.source[keep]),
+        np.ascontiguousarray(rep.time[keep]),
+        np.ascontiguousarray(rep.aou[keep]),
+        len(tracks),
+        geographic=geographic,
+        options=options,
+    )
+    # the tile numbers sources among those it holds; their values are the picture's indices
+    glob = np.asarray(rep.sources, dtype=np.int64)
+    micros = np.asarray(counts["micros"], dtype=np.uint64)
+    whole = np.zeros(int(glob.max()) + 1, dtype=np.uint64)
+    whole[glob[: len(micros)]] = micros
+    counts["micros"] = whole
+    counts["cell_source"] = glob[np.asarray(counts["cell_source"], np.intp)].astype(np.uint32)
+    return dict(counts)
 
 
 def _score_tiles(
     part: pd.DataFrame,
-    grid: Grid,
     coords: str,
     columns: tuple[str, ...],
-    lo: NDArray[np.float64],
-    hi: NDArray[np.float64],
-    track_ids: NDArray[Any],
-    sources: NDArray[Any],
-    index: dict[str, Any],
-    scoring: dict[str, Any],
-) -> pd.DataFrame:
-    """The candidate pairs each tile of a partition owns, scored by the engine.
+    shared: tuple[Any, ...],
+    options: dict[str, Any],
+) -> tuple[pd.DataFrame, list[dict[str, Any]]]:
+    """The candidate pairs each tile of a partition owns, with the engine's summaries, and the
+    picture counts of the tracks whose home the tile is.
 
     Tracks arrive under their global indices (``track_id``), so the engine numbers a tile's
     tracks in the order of the whole picture: every pair keeps its orientation ``a < b`` and
     the order of its floating-point operations.
     """
+    grid, lo, hi, track_ids, sources, home_tile = shared
     geographic = coords == "geographic"
+    index = {
+        k: options[k] for k in ("max_gap", "horizon", "process_noise", "same_source", "window")
+    }
     out = [pd.DataFrame(_pairs_frame())]
+    counts: list[dict[str, Any]] = []
     for tile, rows in part.groupby("_tile", sort=True):
         rows = rows.sort_values("_row", kind="stable")  # the caller's order
         try:  # whole tracks here: the cross-report checks (one source, distinct times) bite
@@ -461,6 +528,9 @@ def _score_tiles(
             err.row = None if exc.row is None else int(rows["_row"].to_numpy(np.int64)[exc.row])
             raise err from None
         gid = np.asarray(rep.track_ids, dtype=np.int64)
+        c = _home_counts(rep, home_tile[gid] == tile, geographic, options)
+        if c is not None:
+            counts.append(c)
         track, source, time, aou, n_local = rep._core_args()
         a, b = _core.association_candidates(
             track, source, time, aou, n_local, geographic=geographic, **index
@@ -476,7 +546,7 @@ def _score_tiles(
                 "not meet: the halo bound is broken"
             )
         mine = keys == tile
-        score, instants, sum_m, k_eff = _core.association_pair_stats(
+        stats = _core.association_pair_stats(
             track,
             source,
             time,
@@ -485,22 +555,17 @@ def _score_tiles(
             np.ascontiguousarray(a[mine]),
             np.ascontiguousarray(b[mine]),
             geographic=geographic,
+            options=options,
             stream_ids=np.ascontiguousarray(gid, dtype=np.uint32),
-            **scoring,
         )
-        out.append(
-            pd.DataFrame(
-                {
-                    "a": ga[mine].astype(np.uint32),
-                    "b": gb[mine].astype(np.uint32),
-                    "score": np.asarray(score, np.float64),
-                    "instants": np.asarray(instants, np.int64),
-                    "sum_m": np.asarray(sum_m, np.float64),
-                    "k_eff": np.asarray(k_eff, np.float64),
-                }
-            )
-        )
-    return pd.concat(out, ignore_index=True)
+        frame: dict[str, Any] = {
+            "a": ga[mine].astype(np.uint32),
+            "b": gb[mine].astype(np.uint32),
+        }
+        for name_, dtype in _STATS:
+            frame[name_] = np.asarray(stats[name_], dtype)
+        out.append(pd.DataFrame(frame))
+    return pd.concat(out, ignore_index=True), counts
 
 
 def _tile_size(
@@ -526,10 +591,11 @@ def _tile_size(
 class DistributedAssociation(Association):
     """:class:`geofeas.Association` computed on Dask.
 
-    ``pairs``, ``objects``, ``candidates`` and ``options`` are those the single-machine
-    :func:`geofeas.associate` gives. The reports themselves stay where they were: ``reports``
-    holds the first report of every track (enough for :meth:`assignment`), ``tracks`` the
-    per-track summary with the space-time boxes and ``tiles`` the number of tiles used.
+    ``pairs``, ``objects``, ``components``, ``coverage``, ``inflation``, ``candidates`` and
+    ``options`` are those the single-machine :func:`geofeas.associate` gives. The reports
+    themselves stay where they were: ``reports`` holds the first report of every track (enough
+    for :meth:`assignment`), ``tracks`` the per-track summary with the space-time boxes and
+    ``tiles`` the number of tiles used.
     """
 
     def __init__(
@@ -549,32 +615,25 @@ def associate(
     reports: Any,
     /,
     *,
+    decisions: Any = None,
     tile: tuple[float, float] | None = None,
     halo: float = 0.0,
     npartitions: int | None = None,
     coords: str = "auto",
-    score: str = "glr",
-    combine: str = "chi2",
-    lower: float = 0.5,
-    upper: float = DEFAULT_UPPER,
-    max_gap: float = 300.0,
-    horizon: float = 0.0,
-    process_noise: float = 2.0,
-    same_source: bool = False,
-    correlation_time: float = 60.0,
-    window: float = 300.0,
-    inflation: float | str = "auto",
-    margin: float | None = None,
-    **score_options: Any,
+    **options: Any,
 ) -> DistributedAssociation:
-    """:func:`geofeas.associate` on Dask: the same pairs, scores, classes and objects.
+    """:func:`geofeas.associate` on Dask: the same pairs, scores, posteriors, classes, review
+    order and objects.
 
     Parameters
     ----------
-    reports : dask or pandas DataFrame, pyarrow.Table, mapping of columns, or path
-        The columns of :func:`geofeas.read_reports`. A path ending in ``.csv`` is read with
-        ``dask.dataframe.read_csv``, any other (Parquet files or a directory of them) with
-        ``dask.dataframe.read_parquet``. Errors name the row of the whole table (0-based).
+    reports : dask or pandas DataFrame, pyarrow.Table, mapping of columns, Reports, or path
+        The columns of :func:`geofeas.read_reports` (or what it returned). A path ending in
+        ``.csv`` is read with ``dask.dataframe.read_csv``, any other (Parquet files or a
+        directory of them) with ``dask.dataframe.read_parquet``. Errors name the row of the
+        whole table (0-based).
+    decisions : path, pandas.DataFrame or None
+        Operator decisions, as for :func:`geofeas.associate`.
     tile : (float, float), optional
         Tile size ``(metres, seconds)``. Default: about four tiles per partition, each at least
         four times the 90th percentile of the tracks' box sizes, one slab in time. The tile
@@ -584,74 +643,41 @@ def associate(
         is always sufficient; a larger value only copies more tracks.
     npartitions : int, optional
         Partitions of the reports (default: the input's, or one per 100,000 rows).
-    coords, score, combine, lower, upper, max_gap, horizon, process_noise, same_source, \
-correlation_time, window, inflation, **score_options
-        As for :func:`geofeas.associate`.
-    margin : None
-        Not supported here: the ambiguity check of :func:`geofeas.associate` compares a match
-        with rival pairs that may lie in other tiles. Only ``None`` is accepted.
+    coords : {"auto", "planar", "geographic"}
+        As for :func:`geofeas.read_reports`.
+    **options
+        Every option of :func:`geofeas.associate` (``score``, ``combine``, ``p_match``,
+        ``p_reject``, ``max_gap`` ... and the score's own), with the same defaults.
 
     Returns
     -------
     DistributedAssociation
         A :class:`geofeas.Association` with ``tracks`` (the per-track boxes) and ``tiles``.
     """
+    if isinstance(reports, Reports):
+        coords = reports.coords if coords == "auto" else coords
     ddf = _as_dask(reports, npartitions)
     coords, columns = _columns(ddf.columns, coords)
     if not (isinstance(halo, (int, float)) and math.isfinite(halo) and halo >= 0):
         raise GeofeasError(f"halo: must be a finite number >= 0, got {halo!r}")
-    if margin is not None:
-        raise GeofeasError(
-            "margin: the ambiguity check is not supported by geofeas.dask (a match's rivals may "
-            "lie in other tiles); use geofeas.associate, or margin=None"
-        )
-    name, opts, infl, options = _resolve_options(
-        score,
-        combine,
-        lower,
-        upper,
-        max_gap,
-        horizon,
-        process_noise,
-        same_source,
-        correlation_time,
-        window,
-        inflation,
-        margin,
-        score_options,
-    )
-    index = dict(
-        max_gap=float(max_gap),
-        horizon=float(horizon),
-        process_noise=float(process_noise),
-        same_source=bool(same_source),
-        window=float(window),
-    )
-    scoring = dict(
-        score=name,
-        combine=combine,
-        max_gap=float(max_gap),
-        horizon=float(horizon),
-        process_noise=float(process_noise),
-        correlation_time=float(correlation_time),
-        inflation=infl,
-        **opts,
-    )
-    # every option checked by the engine before any work is distributed
-    empty = {c: np.zeros(0) for c in columns}
+    general = {k: v for k, v in options.items() if k in ASSOCIATION_DEFAULTS}
+    score_options = {k: v for k, v in options.items() if k not in ASSOCIATION_DEFAULTS}
+    # every option checked by the engine before any work is distributed (the sources are not
+    # known yet: those a false_tracks mapping names stand in for them)
+    ft = general.get("false_tracks")
+    named = np.array(sorted(ft, key=str) if isinstance(ft, Mapping) else [], dtype=object)
+    core, _ = _resolve_options(named, general, score_options)
+    empty = read_reports({c: np.zeros(0) for c in columns}, coords=coords)
     _core.associate(
-        *read_reports(empty, coords=coords)._core_args(),
+        *empty._core_args(),
+        *Decisions.empty()._core_args(),
         geographic=coords == "geographic",
-        lower=float(lower),
-        upper=float(upper),
-        same_source=bool(same_source),
-        window=float(window),
-        **scoring,
+        options=core,
     )
 
     ddf = ddf[list(columns)]
     try:
-        return _run(ddf, coords, columns, tile, halo, index, scoring, options)
+        return _run(ddf, coords, columns, tile, halo, general, score_options, decisions)
     except GeofeasError as exc:
         raise _name_rows(exc, ddf) from None
 
@@ -683,9 +709,9 @@ def _run(
     columns: tuple[str, ...],
     tile: tuple[float, float] | None,
     halo: float,
-    index: dict[str, Any],
-    scoring: dict[str, Any],
-    options: dict[str, Any],
+    general: dict[str, Any],
+    score_options: dict[str, Any],
+    decisions: Any,
 ) -> DistributedAssociation:
     import dask
 
@@ -695,17 +721,22 @@ def _run(
     partial = dask.delayed(_partition_partials, pure=True, nout=3)
     stage = dask.persist(*[partial(p, i, coords, columns) for i, p in enumerate(ddf.to_delayed())])
     aggs, ends = dask.compute([s[1] for s in stage], [s[2] for s in stage])
+    o = {**ASSOCIATION_DEFAULTS, **general}
     tracks = _combine(
         list(aggs),
         list(ends),
         coords,
-        max_gap=index["max_gap"],
-        horizon=index["horizon"],
-        process_noise=index["process_noise"],
+        max_gap=float(o["max_gap"]),
+        horizon=float(o["horizon"]),
+        process_noise=float(o["process_noise"]),
         halo=halo,
     )
     track_ids = tracks["track_id"].to_numpy()
     sources = np.unique(tracks["source"].to_numpy())
+    # the options as the single machine resolves them, against the picture's sources
+    options, recorded = _resolve_options(sources, general, score_options)
+    track_reports = _track_reports(tracks, track_ids, sources, coords)
+    dec = Decisions.empty() if decisions is None else read_decisions(decisions, track_reports)
     dims = sum(1 for c in tracks.columns if c.startswith("lo"))
     lo = np.ascontiguousarray(tracks[[f"lo{k}" for k in range(dims)]].to_numpy(np.float64))
     hi = np.ascontiguousarray(tracks[[f"hi{k}" for k in range(dims)]].to_numpy(np.float64))
@@ -730,6 +761,8 @@ def _run(
     rows, keys = explode(lo, hi, grid)  # rows are sorted: the tiles of track 0, then 1, ...
     copies = np.bincount(rows, minlength=len(tracks)).astype(np.int64)
     first_copy = np.cumsum(copies) - copies
+    # every track's home: the first tile it is copied into (its picture counts are taken there)
+    home_tile = keys[first_copy] if len(tracks) else np.zeros(0, np.int64)
     n_tiles = int(np.unique(keys).size)
 
     # 3. reports, as numbers, copied into tiles; one shuffle; each tile scores the pairs it owns
@@ -741,75 +774,24 @@ def _run(
         verify_meta=False,
     )
     tiled = tiled.shuffle("_tile", npartitions=max(1, min(n_tiles, 4 * nparts)))
-    scored = tiled.map_partitions(
-        _score_tiles,
-        grid,
-        coords,
-        columns,
-        lo,
-        hi,
-        track_ids,
-        sources,
-        index,
-        scoring,
-        meta=pd.DataFrame(_pairs_frame()),
-    )
-    pairs = scored.compute()
-    return _gather(pairs, tracks, track_ids, coords, options, n_tiles)
+    lookup = dask.delayed((grid, lo, hi, track_ids, sources, home_tile), pure=True)
+    score = dask.delayed(_score_tiles, pure=True)
+    done = dask.compute(*[score(p, coords, columns, lookup, options) for p in tiled.to_delayed()])
+    pairs = pd.concat([d[0] for d in done], ignore_index=True)
+    counts = [c for d in done for c in d[1]]
+    return _gather(pairs, counts, tracks, track_reports, dec, coords, options, recorded, n_tiles)
 
 
-def _gather(
-    pairs: pd.DataFrame,
-    tracks: pd.DataFrame,
-    track_ids: NDArray[Any],
-    coords: str,
-    options: dict[str, Any],
-    tiles: int,
-) -> DistributedAssociation:
-    """The global steps: candidates in the engine's order, triage and grouping once."""
-    candidates = len(pairs)
-    a = pairs["a"].to_numpy(np.uint32)
-    b = pairs["b"].to_numpy(np.uint32)
-    score = pairs["score"].to_numpy(np.float64)
-    instants = pairs["instants"].to_numpy(np.int64)
-    order = np.lexsort((b, a))
-    keep = order[instants[order] > 0]
-    if len(order) > 1:
-        key = a[order].astype(np.int64) * len(track_ids) + b[order]
-        if (np.diff(key) == 0).any():  # pragma: no cover - ownership makes this impossible
-            raise GeofeasError("internal: a candidate pair was scored in two tiles")
-    a, b, score, instants = a[keep], b[keep], score[keep], instants[keep]
-    sum_m = pairs["sum_m"].to_numpy(np.float64)[keep]
-    k_eff = pairs["k_eff"].to_numpy(np.float64)[keep]
-    sources, inverse = np.unique(tracks["source"].to_numpy(), return_inverse=True)
-    source: NDArray[np.uint32] = np.ascontiguousarray(inverse.reshape(-1), dtype=np.uint32)
-    start = tracks["start"].to_numpy(np.float64)
-    end = tracks["end"].to_numpy(np.float64)
-    # as the engine's assign::TrackInfo::spread_of, bit for bit
-    spread = 0.25 * np.sqrt(
-        tracks["area_min"].to_numpy(np.float64) * tracks["area_max"].to_numpy(np.float64)
-    )
-    infl = options["inflation"]
-    done = _core.association_finish(
-        np.ascontiguousarray(source),
-        np.ascontiguousarray(start),
-        np.ascontiguousarray(end),
-        np.ascontiguousarray(a),
-        np.ascontiguousarray(b),
-        np.ascontiguousarray(score),
-        np.ascontiguousarray(instants, dtype=np.uint32),
-        np.ascontiguousarray(sum_m),
-        np.ascontiguousarray(k_eff),
-        combine=options["combine"],
-        inflation=None if isinstance(infl, str) else float(infl),
-        lower=options["lower"],
-        upper=options["upper"],
-        spread=np.ascontiguousarray(spread),
-    )
+def _track_reports(
+    tracks: pd.DataFrame, track_ids: NDArray[Any], sources: NDArray[Any], coords: str
+) -> Reports:
+    """The first report of every track: the :class:`Reports` of the distributed result."""
     names = PLANAR if coords == "planar" else GEOGRAPHIC
+    _, inverse = np.unique(tracks["source"].to_numpy(), return_inverse=True)
+    source = np.ascontiguousarray(inverse.reshape(-1), dtype=np.uint32)
     first = tracks[["track_id", "source", "first_time"] + [f"first_{n}" for n in names]]
     first.columns = ["track_id", "source", "time", *names]
-    track_reports = Reports(
+    return Reports(
         first,
         coords=coords,
         track_ids=track_ids,
@@ -819,5 +801,53 @@ def _gather(
         time=np.ascontiguousarray(tracks["first_time"].to_numpy(np.float64)),
         aou=np.ascontiguousarray(first[list(names)].to_numpy(np.float64)),
     )
-    raw = dict(done, a=a, b=b, instants=instants.astype(np.uint32), candidates=candidates)
-    return DistributedAssociation(track_reports, raw, options, tracks, tiles)
+
+
+def _gather(
+    pairs: pd.DataFrame,
+    counts: list[dict[str, Any]],
+    tracks: pd.DataFrame,
+    track_reports: Reports,
+    decisions: Decisions,
+    coords: str,
+    options: dict[str, Any],
+    recorded: dict[str, Any],
+    tiles: int,
+) -> DistributedAssociation:
+    """The global step, once, with the engine's own ``finish``: covariance inflation, the
+    posterior of every component (whole: components are never cut by tiles), triage, review
+    order and objects, on the gathered pairs in the engine's order and the merged picture."""
+    candidates = len(pairs)
+    a = pairs["a"].to_numpy(np.uint32)
+    b = pairs["b"].to_numpy(np.uint32)
+    instants = pairs["instants"].to_numpy(np.int64)
+    order = np.lexsort((b, a))
+    keep = order[instants[order] > 0]
+    if len(order) > 1:
+        key = a[order].astype(np.int64) * len(track_reports.track_ids) + b[order]
+        if (np.diff(key) == 0).any():  # pragma: no cover - ownership makes this impossible
+            raise GeofeasError("internal: a candidate pair was scored in two tiles")
+    stats = {
+        name: np.ascontiguousarray(pairs[name].to_numpy(dtype)[keep]) for name, dtype in _STATS
+    }
+    # as the engine's assign::TrackInfo::spread_of, bit for bit
+    spread = 0.25 * np.sqrt(
+        tracks["area_min"].to_numpy(np.float64) * tracks["area_max"].to_numpy(np.float64)
+    )
+    raw = _core.association_finish(
+        track_reports.source,
+        np.ascontiguousarray(tracks["start"].to_numpy(np.float64)),
+        np.ascontiguousarray(tracks["end"].to_numpy(np.float64)),
+        np.ascontiguousarray(spread),
+        np.ascontiguousarray(a[keep]),
+        np.ascontiguousarray(b[keep]),
+        stats,
+        counts,
+        *decisions._core_args(),
+        geographic=coords == "geographic",
+        options=options,
+        candidates=candidates,
+    )
+    result = DistributedAssociation(track_reports, raw, recorded, tracks, tiles)
+    result.decisions = decisions
+    return result

@@ -34,6 +34,16 @@ timestamps both tracks have, in one vectorised call, and combines the per-instan
 result to a distance; tracks with no common timestamp give ``None``, which Stone Soup's
 ``OneToOneAssociator`` treats as "cannot associate". So one measure object serves both
 ``TrackToTrackCounting`` (state by state) and ``OneToOneTrackAssociator`` (track by track).
+
+**The posterior.** The measures score pairs one at a time. :func:`associate` runs the whole
+:func:`geofeas.associate` on Stone Soup tracks of several sources — time alignment of tracks
+that share no timestamp, the joint model of every connected component of candidate pairs — and
+returns the :class:`geofeas.Association` with ``p_same`` (the posterior probability that two
+tracks are one object), the triage, the review queue and the objects, keyed by the tracks'
+``id``. :class:`PosteriorTrackAssociator` is the same as a Stone Soup ``TrackToTrackAssociator``:
+each tracks set is one source, and the pairs the engine merges come back as
+:class:`ProbabilisticTimeRangeAssociation` objects holding the two ``Track`` objects, their
+common time range and ``probability`` = ``p_same``.
 """
 
 import math
@@ -50,9 +60,17 @@ from .scores import DEFAULT_VERTICES, from_gaussian, glr, overlap, to_gaussian
 try:
     import pandas as pd  # type: ignore[import-untyped,unused-ignore]
     from stonesoup.base import Property  # type: ignore[import-untyped]
+    from stonesoup.dataassociator.base import (  # type: ignore[import-untyped]
+        TrackToTrackAssociator,
+    )
     from stonesoup.measures import Measure  # type: ignore[import-untyped]
     from stonesoup.measures.base import TrackMeasure  # type: ignore[import-untyped]
+    from stonesoup.types.association import (  # type: ignore[import-untyped]
+        AssociationSet,
+        TimeRangeAssociation,
+    )
     from stonesoup.types.state import GaussianState, StateMutableSequence  # type: ignore[import-untyped]
+    from stonesoup.types.time import TimeRange  # type: ignore[import-untyped]
     from stonesoup.types.track import Track  # type: ignore[import-untyped]
 except ImportError as exc:  # pragma: no cover - exercised by test_missing_stonesoup
     raise ImportError(
@@ -63,7 +81,10 @@ __all__ = [
     "GLRMeasure",
     "GeofeasMeasure",
     "OverlapMeasure",
+    "PosteriorTrackAssociator",
+    "ProbabilisticTimeRangeAssociation",
     "ThresholdedGLRMeasure",
+    "associate",
     "reports_to_tracks",
     "tracks_to_reports",
 ]
@@ -437,3 +458,127 @@ def reports_to_tracks(reports: Any, /) -> set[Any]:
         ]
         tracks.add(Track(states, id=str(track_id), init_metadata={"source": srcs[rows[0]]}))
     return tracks
+
+
+def associate(
+    tracks: Iterable[Any],
+    /,
+    *,
+    source: str | Mapping[str, str] | None = None,
+    mapping: Sequence[int] = (0, 2),
+    decisions: Any = None,
+    **options: Any,
+) -> Any:
+    """:func:`geofeas.associate` of Stone Soup tracks of several sources: the posterior
+    probability that each candidate pair of tracks is one object.
+
+    Parameters
+    ----------
+    tracks : iterable of stonesoup Track
+        Tracks of Gaussian states of every source, with distinct ``id`` s. Tracks of different
+        sources need not share timestamps (the engine interpolates, see ``max_gap``).
+    source, mapping
+        As for :func:`tracks_to_reports` (default source: each track's
+        ``metadata["source"]``).
+    decisions : path, pandas.DataFrame or None
+        Operator decisions on pairs of track ids (``track_a, track_b, decision``).
+    **options
+        Every option of :func:`geofeas.associate` (``p_match``, ``p_reject``, ``max_gap`` ...).
+
+    Returns
+    -------
+    geofeas.Association
+        ``pairs`` (``track_a``, ``track_b`` are the tracks' ids; ``p_same``, ``class``,
+        ``review_rank`` ...), ``objects`` (``p_alone`` per track), ``review_queue``.
+    """
+    from .association import associate as _associate
+
+    reports = tracks_to_reports(tracks, source=source, mapping=mapping)
+    return _associate(reports, decisions=decisions, **options)
+
+
+class ProbabilisticTimeRangeAssociation(TimeRangeAssociation):  # type: ignore[misc]
+    """A Stone Soup ``TimeRangeAssociation`` of two tracks with the posterior probability that
+    they are one object."""
+
+    probability: float = Property(
+        default=None, doc="P(same object) of the two tracks (geofeas ``p_same``)."
+    )
+
+
+class PosteriorTrackAssociator(TrackToTrackAssociator):  # type: ignore[misc]
+    """A Stone Soup track-to-track associator from the joint posterior of
+    :func:`geofeas.associate`.
+
+    ``associate_tracks(*tracks_sets)`` takes one set of tracks per source and returns an
+    ``AssociationSet`` of :class:`ProbabilisticTimeRangeAssociation`: one per pair the engine
+    merges (class ``"match"``: ``p_same >= p_match`` within a feasible grouping), holding the
+    two ``Track`` objects, the time range both cover and ``probability = p_same``. The whole
+    :class:`geofeas.Association` of the last call (the borderline pairs in review order, the
+    objects) is kept in :attr:`association`.
+    """
+
+    mapping: Sequence[int] = Property(
+        default=(0, 2), doc="Indices of x (east, m) and y (north, m) in the state vectors."
+    )
+    sources: Sequence[str] = Property(
+        default=None, doc="A name per tracks set (default: '0', '1', ...)."
+    )
+    options: Mapping[str, Any] = Property(
+        default=None, doc="Options of geofeas.associate (p_match, p_reject, max_gap ...)."
+    )
+    decisions: Any = Property(
+        default=None, doc="Operator decisions on pairs of track ids (path or DataFrame)."
+    )
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        #: The :class:`geofeas.Association` of the last :meth:`associate_tracks` call.
+        self.association: Any = None
+
+    def associate_tracks(self, *tracks_sets: Any) -> Any:
+        """Associate the tracks of several sources (one set per source)."""
+        names = (
+            [str(k) for k in range(len(tracks_sets))]
+            if self.sources is None
+            else [str(s) for s in self.sources]
+        )
+        if len(names) != len(tracks_sets):
+            raise GeofeasError(f"sources: {len(names)} names for {len(tracks_sets)} tracks sets")
+        by_id: dict[str, Any] = {}
+        source: dict[str, str] = {}
+        for name, tracks in zip(names, tracks_sets, strict=True):
+            for n, track in enumerate(tracks):
+                if not isinstance(track, StateMutableSequence):
+                    raise GeofeasError(
+                        f"tracks set {name!r}, track {n}: expected a Stone Soup track, got "
+                        f"{type(track).__name__}"
+                    )
+                track_id = str(track.id)
+                if track_id in by_id:
+                    raise GeofeasError(
+                        f"tracks set {name!r}: track id {track_id!r} is used twice (ids name "
+                        "tracks across all sets)"
+                    )
+                by_id[track_id] = track
+                source[track_id] = name
+        self.association = associate(
+            list(by_id.values()),
+            source=source,
+            mapping=self.mapping,
+            decisions=self.decisions,
+            **dict(self.options or {}),
+        )
+        out = set()
+        for row in self.association.matches.itertuples(index=False):
+            t1, t2 = by_id[str(row.track_a)], by_id[str(row.track_b)]
+            start = max(t1.states[0].timestamp, t2.states[0].timestamp)
+            end = min(t1.states[-1].timestamp, t2.states[-1].timestamp)
+            out.add(
+                ProbabilisticTimeRangeAssociation(
+                    {t1, t2},
+                    time_range=TimeRange(min(start, end), max(start, end)),
+                    probability=float(row.p_same),
+                )
+            )
+        return AssociationSet(out)

@@ -98,18 +98,19 @@ impl Model {
 /// Track-seconds per source and per grid cell: the mergeable summary of a picture (or of any
 /// part of it holding whole tracks) from which [`Picture`] is built. Cells are anchored at
 /// absolute indices (planar: `floor(x / cell)`; geographic: rows of `cell` metres of latitude,
-/// columns of `cell` metres of longitude at the row's centre), so the counts of several parts
-/// add up to those of the whole.
+/// columns of `cell` metres of longitude at the row's centre), and durations are whole
+/// microseconds (integers, so sums do not depend on their order): the counts of several parts
+/// add up to those of the whole, bit for bit.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Counts {
     /// Cell side (m).
     pub cell: f64,
     /// Whether positions are `(lat, lon)` degrees.
     pub geographic: bool,
-    /// Track-seconds per source.
-    pub secs: Vec<f64>,
-    /// Track-seconds per `(source, row, column)`.
-    pub grid: std::collections::BTreeMap<(u32, i64, i64), f64>,
+    /// Track-microseconds per source.
+    pub micros: Vec<u64>,
+    /// Track-microseconds per `(source, row, column)`.
+    pub grid: std::collections::BTreeMap<(u32, i64, i64), u64>,
     /// Earliest and latest report time.
     pub time: (f64, f64),
 }
@@ -119,6 +120,16 @@ const EARTH_RADIUS: f64 = 6_371_008.8;
 impl Counts {
     fn metres_per_degree() -> f64 {
         EARTH_RADIUS * std::f64::consts::PI / 180.0
+    }
+
+    /// A duration (s) as whole microseconds (rounded; saturating, `NaN` as 0).
+    pub fn to_micros(seconds: f64) -> u64 {
+        (seconds * 1e6).round() as u64
+    }
+
+    /// Microseconds as seconds.
+    pub fn seconds(micros: u64) -> f64 {
+        micros as f64 * 1e-6
     }
 
     /// The cell `(row, column)` of a position.
@@ -145,7 +156,7 @@ impl Counts {
         let mut out = Self {
             cell,
             geographic: r.coords == Coords::Geographic,
-            secs: Vec::new(),
+            micros: Vec::new(),
             grid: Default::default(),
             time: (f64::INFINITY, f64::NEG_INFINITY),
         };
@@ -153,8 +164,8 @@ impl Counts {
             let range = r.range(t);
             let times = &r.time[range.clone()];
             let s = r.source[t];
-            if out.secs.len() <= s as usize {
-                out.secs.resize(s as usize + 1, 0.0);
+            if out.micros.len() <= s as usize {
+                out.micros.resize(s as usize + 1, 0);
             }
             for (k, i) in range.enumerate() {
                 let next = times.get(k + 1).map(|&x| x - times[k]);
@@ -164,9 +175,11 @@ impl Counts {
                     (None, Some(b)) => b.min(max_gap),
                     (None, None) => max_gap.min(60.0),
                 };
-                out.secs[s as usize] += dt;
+                let us = Self::to_micros(dt);
+                out.micros[s as usize] = out.micros[s as usize].saturating_add(us);
                 let (row, col) = out.cell_of(r.state[i].pos);
-                *out.grid.entry((s, row, col)).or_insert(0.0) += dt;
+                let cell = out.grid.entry((s, row, col)).or_insert(0);
+                *cell = cell.saturating_add(us);
                 out.time = (out.time.0.min(times[k]), out.time.1.max(times[k]));
             }
         }
@@ -175,14 +188,15 @@ impl Counts {
 
     /// Adds the counts of another part of the picture.
     pub fn merge(&mut self, other: &Counts) {
-        if self.secs.len() < other.secs.len() {
-            self.secs.resize(other.secs.len(), 0.0);
+        if self.micros.len() < other.micros.len() {
+            self.micros.resize(other.micros.len(), 0);
         }
-        for (s, v) in other.secs.iter().enumerate() {
-            self.secs[s] += v;
+        for (s, v) in other.micros.iter().enumerate() {
+            self.micros[s] = self.micros[s].saturating_add(*v);
         }
         for (k, v) in &other.grid {
-            *self.grid.entry(*k).or_insert(0.0) += v;
+            let cell = self.grid.entry(*k).or_insert(0);
+            *cell = cell.saturating_add(*v);
         }
         self.time = (self.time.0.min(other.time.0), self.time.1.max(other.time.1));
     }
@@ -213,7 +227,7 @@ impl Picture {
 
     /// The picture of merged [`Counts`].
     pub fn from_counts(counts: Counts, model: &Model) -> Self {
-        let secs = &counts.secs;
+        let secs: Vec<f64> = counts.micros.iter().map(|&u| Counts::seconds(u)).collect();
         let reference = (0..secs.len())
             .max_by(|&a, &b| secs[a].total_cmp(&secs[b]).then(b.cmp(&a)))
             .unwrap_or(0) as u32;
@@ -224,7 +238,7 @@ impl Picture {
             .grid
             .iter()
             .filter(|(k, _)| k.0 == reference)
-            .map(|(k, v)| ((k.1, k.2), *v))
+            .map(|(k, v)| ((k.1, k.2), Counts::seconds(*v)))
             .collect();
         // picture-wide: the reference source's objects over the cells it occupies
         let occupied = own.len().max(1) as f64;
@@ -316,5 +330,105 @@ pub fn log_likelihood_ratio(
         f64::NEG_INFINITY
     } else {
         l
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Reports of `tracks` tracks (sources 0..3) wandering over a few cells with irregular,
+    /// non-representable time steps.
+    fn picture(coords: Coords, tracks: u32) -> (Vec<u32>, Vec<u32>, Vec<f64>, Vec<[f64; 5]>) {
+        let (mut track, mut source, mut time, mut aou) = (vec![], vec![], vec![], vec![]);
+        let mut z = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            z ^= z << 13;
+            z ^= z >> 7;
+            z ^= z << 17;
+            (z >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for t in 0..tracks {
+            let mut clock = 1.7e9 + 1000.0 * next();
+            let (mut x, mut y) = (9000.0 * next(), 9000.0 * next());
+            for _ in 0..(3 + (next() * 40.0) as usize) {
+                track.push(t);
+                source.push(t % 3);
+                time.push(clock);
+                let pos = match coords {
+                    Coords::Planar => [x, y],
+                    Coords::Geographic => [50.0 + y / 111_000.0, -1.0 + x / 70_000.0],
+                };
+                aou.push([pos[0], pos[1], 50.0, 20.0, 0.3]);
+                clock += 0.1 + 400.0 * next();
+                x += 300.0 * (next() - 0.5);
+                y += 300.0 * (next() - 0.5);
+            }
+        }
+        (track, source, time, aou)
+    }
+
+    #[test]
+    fn counts_of_any_split_of_the_tracks_add_up_to_the_whole_exactly() {
+        for coords in [Coords::Planar, Coords::Geographic] {
+            let n = 60;
+            let (track, source, time, aou) = picture(coords, n);
+            let whole = Reports::new(coords, n as usize, &track, &source, &time, &aou).unwrap();
+            let all = Counts::of(&whole, 2_000.0, 300.0);
+            assert!(all.grid.len() > 10, "the tracks visit many cells");
+            // three parts holding every track once, in an order unlike the whole's
+            let mut merged = Counts {
+                cell: 2_000.0,
+                geographic: coords == Coords::Geographic,
+                time: (f64::INFINITY, f64::NEG_INFINITY),
+                ..Counts::default()
+            };
+            for part in [2, 0, 1] {
+                let keep: Vec<usize> = (0..track.len())
+                    .filter(|&i| (track[i] / 4) % 3 == part)
+                    .collect();
+                let mut ids: Vec<u32> = keep.iter().map(|&i| track[i]).collect();
+                ids.dedup();
+                let local: Vec<u32> = keep
+                    .iter()
+                    .map(|&i| ids.iter().position(|&t| t == track[i]).unwrap() as u32)
+                    .collect();
+                let r = Reports::new(
+                    coords,
+                    ids.len(),
+                    &local,
+                    &keep.iter().map(|&i| source[i]).collect::<Vec<_>>(),
+                    &keep.iter().map(|&i| time[i]).collect::<Vec<_>>(),
+                    &keep.iter().map(|&i| aou[i]).collect::<Vec<_>>(),
+                )
+                .unwrap();
+                merged.merge(&Counts::of(&r, 2_000.0, 300.0));
+            }
+            assert_eq!(merged, all);
+            let model = Model::default();
+            assert_eq!(
+                Picture::from_counts(merged, &model),
+                Picture::from_counts(all, &model)
+            );
+        }
+    }
+
+    #[test]
+    fn counts_are_the_reports_durations() {
+        // one track: reports at 0, 10, 1000 s; max gap 300 s -> 10 + 300 + 300 (the last report
+        // stands for the gap before it, capped)
+        let r = Reports::new(
+            Coords::Planar,
+            1,
+            &[0, 0, 0],
+            &[0, 0, 0],
+            &[0.0, 10.0, 1000.0],
+            &[[100.0, 100.0, 5.0, 5.0, 0.0]; 3],
+        )
+        .unwrap();
+        let c = Counts::of(&r, 2_000.0, 300.0);
+        assert_eq!(c.micros, vec![610_000_000]);
+        assert_eq!(c.grid.get(&(0, 0, 0)), Some(&610_000_000));
+        assert_eq!(c.time, (0.0, 1000.0));
     }
 }

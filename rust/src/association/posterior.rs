@@ -1273,7 +1273,12 @@ mod tests {
         let z: f64 = w.iter().sum();
         let want = [(w[1] + w[4]) / z, (w[2] + w[4]) / z, (w[3] + w[4]) / z];
         for k in 0..3 {
-            assert!((p.p_same[k] - want[k]).abs() < 1e-12, "{k}: {} {}", p.p_same[k], want[k]);
+            assert!(
+                (p.p_same[k] - want[k]).abs() < 1e-12,
+                "{k}: {} {}",
+                p.p_same[k],
+                want[k]
+            );
         }
         assert!((p.p_alone[0] - (w[0] + w[3]) / z).abs() < 1e-12);
         assert!((p.p_alone[2] - (w[0] + w[1]) / z).abs() < 1e-12);
@@ -1405,7 +1410,10 @@ mod tests {
         )
         .unwrap_err()
         .to_string();
-        assert!(err.contains("rows 2, 3") && err.contains("one source"), "{err}");
+        assert!(
+            err.contains("rows 2, 3") && err.contains("one source"),
+            "{err}"
+        );
     }
 
     #[test]
@@ -1420,7 +1428,11 @@ mod tests {
             tr(1, 20.0, 30.0, 5.0),
         ];
         let p = exact(&tracks, &[(0, 2), (1, 2), (3, 4)], &[3.0, 3.0, 0.0], &[]);
-        assert!(p.gain[0] > p.gain[2] && p.gain[1] > p.gain[2], "{:?}", p.gain);
+        assert!(
+            p.gain[0] > p.gain[2] && p.gain[1] > p.gain[2],
+            "{:?}",
+            p.gain
+        );
         // "same" on (0, 2) takes (1, 2) to 0: out of the band
         assert_eq!(p.settles[0].0, 1);
         assert_eq!(p.settles[2], (0, 0));

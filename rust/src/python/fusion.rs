@@ -95,8 +95,9 @@ pub(super) fn stats_dict<'py>(py: Python<'py>, out: &[PairStat]) -> PyResult<Bou
     Ok(d)
 }
 
-/// The picture counts of a partition holding whole tracks: per-source track-seconds, the
-/// occupied cells `(source, row, col, seconds)` and the time range.
+/// The picture counts of a partition holding whole tracks: per-source track-microseconds
+/// (`micros`), the occupied cells `(cell_source, cell_row, cell_col, cell_micros)` and the time
+/// range (`time`).
 #[pyfunction]
 #[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic, options))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
@@ -118,24 +119,24 @@ fn association_picture_counts<'py>(
 
 pub(super) fn counts_dict<'py>(py: Python<'py>, c: &Counts) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    d.set_item("secs", c.secs.clone().into_pyarray(py))?;
+    d.set_item("micros", c.micros.clone().into_pyarray(py))?;
     let s: Vec<u32> = c.grid.keys().map(|k| k.0).collect();
     let row: Vec<i64> = c.grid.keys().map(|k| k.1).collect();
     let col: Vec<i64> = c.grid.keys().map(|k| k.2).collect();
-    let v: Vec<f64> = c.grid.values().copied().collect();
+    let v: Vec<u64> = c.grid.values().copied().collect();
     d.set_item("cell_source", s.into_pyarray(py))?;
     d.set_item("cell_row", row.into_pyarray(py))?;
     d.set_item("cell_col", col.into_pyarray(py))?;
-    d.set_item("cell_secs", v.into_pyarray(py))?;
+    d.set_item("cell_micros", v.into_pyarray(py))?;
     d.set_item("time", (c.time.0, c.time.1))?;
     Ok(d)
 }
 
 /// The global step of `associate` on gathered pairs `(a, b)` (sorted, `a < b`, each with at
 /// least one instant) with their summaries `stats` (as `association_pair_stats` returns them),
-/// the tracks' `source`, `start`, `end`, `spread`, the merged picture `counts` (as
-/// `association_picture_counts` returns them, summed) and operator decisions. Returns the same
-/// dict as `associate`.
+/// the tracks' `source`, `start`, `end`, `spread`, the picture `counts` of parts that together
+/// hold every track once (a list of what `association_picture_counts` returns; merged here) and
+/// operator decisions. Returns the same dict as `associate`.
 #[pyfunction]
 #[pyo3(signature = (source, start, end, spread, a, b, stats, counts, decision_a, decision_b,
     decision_same, decision_row, *, geographic, options, candidates))]
@@ -149,7 +150,7 @@ fn association_finish<'py>(
     a: PyReadonlyArray1<'py, u32>,
     b: PyReadonlyArray1<'py, u32>,
     stats: Bound<'py, PyDict>,
-    counts: Bound<'py, PyDict>,
+    counts: Vec<Bound<'py, PyDict>>,
     decision_a: PyReadonlyArray1<'py, u32>,
     decision_b: PyReadonlyArray1<'py, u32>,
     decision_same: PyReadonlyArray1<'py, bool>,
@@ -230,7 +231,16 @@ fn association_finish<'py>(
             )
         })
         .collect();
-    let counts = counts_of(&counts, geographic, o.model.cell)?;
+    let mut merged = Counts {
+        cell: o.model.cell,
+        geographic,
+        time: (f64::INFINITY, f64::NEG_INFINITY),
+        ..Counts::default()
+    };
+    for (k, part) in counts.iter().enumerate() {
+        merged.merge(&counts_of(k, part, geographic, o.model.cell)?);
+    }
+    let counts = merged;
     let res = detached(py, || {
         let picture = Picture::from_counts(counts.clone(), &o.model);
         let mut res = association::finish(
@@ -248,28 +258,31 @@ fn association_finish<'py>(
     super::association::result_dict(py, res)
 }
 
-fn counts_of(d: &Bound<'_, PyDict>, geographic: bool, cell: f64) -> PyResult<Counts> {
+fn counts_of(k: usize, d: &Bound<'_, PyDict>, geographic: bool, cell: f64) -> PyResult<Counts> {
     let item = |name: &str| {
         d.get_item(name)?
-            .ok_or_else(|| PyErr::from(Error::Invalid(format!("counts: missing '{name}'"))))
+            .ok_or_else(|| PyErr::from(Error::Invalid(format!("counts[{k}]: missing '{name}'"))))
     };
-    let secs: Vec<f64> = item("secs")?.extract()?;
+    let micros: Vec<u64> = item("micros")?.extract()?;
     let s: Vec<u32> = item("cell_source")?.extract()?;
     let row: Vec<i64> = item("cell_row")?.extract()?;
     let col: Vec<i64> = item("cell_col")?.extract()?;
-    let v: Vec<f64> = item("cell_secs")?.extract()?;
+    let v: Vec<u64> = item("cell_micros")?.extract()?;
     let time: (f64, f64) = item("time")?.extract()?;
     if row.len() != s.len() || col.len() != s.len() || v.len() != s.len() {
-        return Err(Error::Invalid("counts: cell columns of different lengths".into()).into());
+        return Err(
+            Error::Invalid(format!("counts[{k}]: cell columns of different lengths")).into(),
+        );
     }
     let mut grid = std::collections::BTreeMap::new();
     for i in 0..s.len() {
-        *grid.entry((s[i], row[i], col[i])).or_insert(0.0) += v[i];
+        let c: &mut u64 = grid.entry((s[i], row[i], col[i])).or_insert(0);
+        *c = c.saturating_add(v[i]);
     }
     Ok(Counts {
         cell,
         geographic,
-        secs,
+        micros,
         grid,
         time,
     })
