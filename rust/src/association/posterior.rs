@@ -1272,13 +1272,8 @@ mod tests {
         let w = [1.0, ab.exp(), ac.exp(), bc.exp(), (ab + ac).exp()];
         let z: f64 = w.iter().sum();
         let want = [(w[1] + w[4]) / z, (w[2] + w[4]) / z, (w[3] + w[4]) / z];
-        for k in 0..3 {
-            assert!(
-                (p.p_same[k] - want[k]).abs() < 1e-12,
-                "{k}: {} {}",
-                p.p_same[k],
-                want[k]
-            );
+        for (k, w) in want.iter().enumerate() {
+            assert!((p.p_same[k] - w).abs() < 1e-12, "{k}: {} {w}", p.p_same[k]);
         }
         assert!((p.p_alone[0] - (w[0] + w[3]) / z).abs() < 1e-12);
         assert!((p.p_alone[2] - (w[0] + w[1]) / z).abs() < 1e-12);
