@@ -238,10 +238,26 @@ fn by_extremes(a: &Ellipse, b: &Ellipse, fa: &BoundaryFn) -> Relation {
         return Relation::BInsideA;
     }
     // Neither inside the other: disjoint exactly when the boundaries do not meet, which either
-    // boundary function certifies (a's boundary outside b, or b's outside a). Both are asked:
-    // for a pair of very different sizes only the function of the smaller ellipse in the
-    // frame of the larger is accurate.
-    if amin > 1.0 + tol_a || bmin > 1.0 + tol_b {
+    // boundary function tells (a's boundary outside b, or b's outside a). The one measured in
+    // the frame of the rounder ellipse is asked: a thin frame stretches the other boundary's
+    // function into narrow dips between grid points and cancelling coefficients. Ties go by
+    // the fields, so both argument orders ask the same function.
+    let aspect = |e: &Ellipse| e.rx.max(e.ry) / e.rx.min(e.ry);
+    let (asp_a, asp_b) = (aspect(a), aspect(b));
+    let in_b_frame = asp_b < asp_a
+        || (asp_b == asp_a
+            && b.to_row()
+                .iter()
+                .zip(a.to_row())
+                .map(|(x, y)| x.total_cmp(&y))
+                .find(|o| o.is_ne())
+                .map_or(true, |o| o.is_lt()));
+    let disjoint = if in_b_frame {
+        amin > 1.0 + tol_a
+    } else {
+        bmin > 1.0 + tol_b
+    };
+    if disjoint {
         Relation::Disjoint
     } else {
         Relation::Crossing
@@ -330,6 +346,27 @@ mod tests {
         );
         assert_eq!(relation(&a, &b), Relation::Disjoint);
         assert_eq!(relation(&b, &a), Relation::Disjoint);
+    }
+
+    #[test]
+    fn needle_tip_in_a_circle_is_crossing_both_ways() {
+        // the tip of a needle (aspect 6.6e4) pokes 4e-5 of its area into a circle
+        let a = Ellipse::new(
+            4.667457314975297e-302,
+            4.27963448e-313,
+            1.0390299731710684e-13,
+            1.5850610584415531e-18,
+            2.1220281696e-314,
+        );
+        let b = Ellipse::new(
+            1.0387854855818246e-13,
+            1.0387856152602562e-13,
+            1.0387866994624287e-13,
+            1.0387856152602562e-13,
+            -5.487353583064704e303,
+        );
+        assert_eq!(relation(&a, &b), Relation::Crossing);
+        assert_eq!(relation(&b, &a), Relation::Crossing);
     }
 
     #[test]
