@@ -238,17 +238,17 @@ fn by_extremes(a: &Ellipse, b: &Ellipse, fa: &BoundaryFn) -> Relation {
         return Relation::BInsideA;
     }
     // Neither inside the other: disjoint exactly when the boundaries do not meet, which either
-    // boundary function tells (a's boundary outside b, or b's outside a). The one measured in
-    // the frame of the rounder ellipse is asked: a thin frame stretches the other boundary's
-    // function into narrow dips between grid points and cancelling coefficients. Ties go by
-    // the fields, so both argument orders ask the same function.
-    let aspect = |e: &Ellipse| e.rx.max(e.ry) / e.rx.min(e.ry);
-    let (asp_a, asp_b) = (aspect(a), aspect(b));
-    let in_b_frame = asp_b < asp_a
-        || (asp_b == asp_a
-            && b.to_row()
+    // boundary function tells (a's boundary outside b, or b's outside a). The function of the
+    // smaller ellipse in the frame of the larger is asked: its coefficients are the smaller
+    // (`(max axis a / min axis b)^2 < (max axis b / min axis a)^2` exactly when `a` has the
+    // smaller area), so it neither cancels nor hides narrow dips between grid points. Equal
+    // areas go by the fields, so both argument orders ask the same function.
+    let (area_a, area_b) = (a.rx * a.ry, b.rx * b.ry);
+    let in_b_frame = area_a < area_b
+        || (area_a == area_b
+            && a.to_row()
                 .iter()
-                .zip(a.to_row())
+                .zip(b.to_row())
                 .map(|(x, y)| x.total_cmp(&y))
                 .find(|o| o.is_ne())
                 .map_or(true, |o| o.is_lt()));
@@ -367,6 +367,26 @@ mod tests {
         );
         assert_eq!(relation(&a, &b), Relation::Crossing);
         assert_eq!(relation(&b, &a), Relation::Crossing);
+    }
+
+    #[test]
+    fn tiny_circle_off_a_huge_ellipse_is_disjoint_both_ways() {
+        let a = Ellipse::new(
+            7.292902054648902e-304,
+            1.0387856152597962e-13,
+            1.0387856131426739e-13,
+            1.0387856131426739e-13,
+            1.6061516385579644e-121,
+        );
+        let b = Ellipse::new(
+            7.684632922911581e49,
+            1.9521413e-317,
+            7.684632922868447e49,
+            7.684632922875586e49,
+            1.09558642687903e-310,
+        );
+        assert_eq!(relation(&a, &b), Relation::Disjoint);
+        assert_eq!(relation(&b, &a), Relation::Disjoint);
     }
 
     #[test]
