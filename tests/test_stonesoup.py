@@ -10,6 +10,7 @@ overlap of eqs. 49-50 by the independent reference in ``reference.py``).
 from __future__ import annotations
 
 import importlib
+import math
 import sys
 from datetime import datetime, timedelta
 
@@ -549,3 +550,19 @@ def test_missing_stonesoup_gives_an_install_hint(monkeypatch):
         importlib.import_module("geofeas.stonesoup")
     monkeypatch.undo()
     importlib.import_module("geofeas.stonesoup")
+
+
+def test_neglog_stays_in_the_log_domain():
+    # 100 sigma apart (S = R1 + R2 = 2 I): g underflows to 0, -ln g = 0.5 d^T S^-1 d = 5000
+    a = GaussianState([[0.0], [0.0]], np.eye(2), timestamp=T0)
+    b = GaussianState([[0.0], [100.0 * math.sqrt(2.0)]], np.eye(2), timestamp=T0)
+    measure = GLRMeasure(distance="neglog", mapping=(0, 1))
+    assert measure(a, b) == pytest.approx(5000.0, rel=1e-12)
+    # a true pair with 100 good instants and one wild one stays associable (finite)
+    times = [T0 + timedelta(seconds=k) for k in range(101)]
+    good = [GaussianState([[0.0], [0.0]], np.eye(2), timestamp=t) for t in times]
+    other = [GaussianState([[0.0], [0.1]], np.eye(2), timestamp=t) for t in times[:100]]
+    other.append(GaussianState([[0.0], [200.0]], np.eye(2), timestamp=times[100]))
+    d = measure(Track(good), Track(other))
+    expected = (100 * 0.25 * 0.1**2 + 0.25 * 200.0**2) / 101  # geometric: mean of -ln g
+    assert math.isfinite(d) and d == pytest.approx(expected, rel=1e-12)

@@ -232,12 +232,32 @@ fn by_extremes(a: &Ellipse, b: &Ellipse, fa: &BoundaryFn) -> Relation {
         return Relation::AInsideB;
     }
     let fb = BoundaryFn::new(b, a);
-    let (_, bmax) = fb.extremes();
-    if bmax <= 1.0 + fb.sampled().2 {
+    let (bmin, bmax) = fb.extremes();
+    let tol_b = fb.sampled().2;
+    if bmax <= 1.0 + tol_b {
         return Relation::BInsideA;
     }
-    if amin > 1.0 + tol_a {
-        // a's boundary misses b and b is not inside a: nothing of b is inside a.
+    // Neither inside the other: disjoint exactly when the boundaries do not meet, which either
+    // boundary function tells (a's boundary outside b, or b's outside a). The function of the
+    // smaller ellipse in the frame of the larger is asked: its coefficients are the smaller
+    // (`(max axis a / min axis b)^2 < (max axis b / min axis a)^2` exactly when `a` has the
+    // smaller area), so it neither cancels nor hides narrow dips between grid points. Equal
+    // areas go by the fields, so both argument orders ask the same function.
+    let (area_a, area_b) = (a.rx * a.ry, b.rx * b.ry);
+    let in_b_frame = area_a < area_b
+        || (area_a == area_b
+            && a.to_row()
+                .iter()
+                .zip(b.to_row())
+                .map(|(x, y)| x.total_cmp(&y))
+                .find(|o| o.is_ne())
+                .map_or(true, |o| o.is_lt()));
+    let disjoint = if in_b_frame {
+        amin > 1.0 + tol_a
+    } else {
+        bmin > 1.0 + tol_b
+    };
+    if disjoint {
         Relation::Disjoint
     } else {
         Relation::Crossing
@@ -305,6 +325,68 @@ mod tests {
             seen[fast as usize] += 1;
         }
         assert!(seen.iter().all(|&n| n > 1000), "{seen:?}");
+    }
+
+    #[test]
+    fn very_different_sizes_agree_both_ways() {
+        // a tiny needle 1.2e-4 (relative) outside a huge ellipse: disjoint, whichever order
+        let a = Ellipse::new(
+            4.667457314975297e-302,
+            4.27963448e-313,
+            1.0368095271218181e-13,
+            1.5850610584415531e-18,
+            7.7455e-320,
+        );
+        let b = Ellipse::new(
+            1.0387856152597962e-13,
+            7.685082780537537e49,
+            7.68463382884336e49,
+            7.684632922875586e49,
+            7.684632922875586e49,
+        );
+        assert_eq!(relation(&a, &b), Relation::Disjoint);
+        assert_eq!(relation(&b, &a), Relation::Disjoint);
+    }
+
+    #[test]
+    fn needle_tip_in_a_circle_is_crossing_both_ways() {
+        // the tip of a needle (aspect 6.6e4) pokes 4e-5 of its area into a circle
+        let a = Ellipse::new(
+            4.667457314975297e-302,
+            4.27963448e-313,
+            1.0390299731710684e-13,
+            1.5850610584415531e-18,
+            2.1220281696e-314,
+        );
+        let b = Ellipse::new(
+            1.0387854855818246e-13,
+            1.0387856152602562e-13,
+            1.0387866994624287e-13,
+            1.0387856152602562e-13,
+            -5.487353583064704e303,
+        );
+        assert_eq!(relation(&a, &b), Relation::Crossing);
+        assert_eq!(relation(&b, &a), Relation::Crossing);
+    }
+
+    #[test]
+    fn tiny_circle_off_a_huge_ellipse_is_disjoint_both_ways() {
+        let a = Ellipse::new(
+            7.292902054648902e-304,
+            1.0387856152597962e-13,
+            1.0387856131426739e-13,
+            1.0387856131426739e-13,
+            1.6061516385579644e-121,
+        );
+        let b = Ellipse::new(
+            7.684632922911581e49,
+            1.9521413e-317,
+            7.684632922868447e49,
+            7.684632922875586e49,
+            1.09558642687903e-310,
+        );
+        assert_eq!(relation(&a, &b), Relation::Disjoint);
+        assert_eq!(relation(&b, &a), Relation::Disjoint);
     }
 
     #[test]
