@@ -3,8 +3,9 @@ re-computed in a background thread after every decision (and whenever another pr
 to the log), so the queue and the probabilities shown are those of the decisions made so far.
 
 The association is the engine's (:func:`geofeas.associate` with the log's decisions as hard
-constraints); each re-association recomputes the whole picture (the engine has no incremental
-entry point) off the request path, and the pages show which log position they reflect.
+constraints). The pairs are scored once; each re-association recomputes only the posterior under
+the decisions (:meth:`geofeas.Association.with_decisions`), off the request path, and the pages
+show which log position they reflect.
 """
 
 from __future__ import annotations
@@ -181,7 +182,12 @@ class Station:
         decisions = pd.DataFrame(table) if table else None
         self._version += 1
         try:
-            result = associate(self.reports, decisions=decisions, **self.options)
+            # the pairs are scored once; after that only the posterior is recomputed under the
+            # decisions (Association.with_decisions), which is what makes re-association cheap
+            base = getattr(self, "_base", None)
+            if base is None:
+                base = self._base = associate(self.reports, **self.options)
+            result = base if decisions is None else base.with_decisions(decisions)
         except GeofeasError as exc:
             if self._version > 1 and hasattr(self, "snapshot"):
                 old = self.snapshot
