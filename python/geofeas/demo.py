@@ -282,78 +282,141 @@ def plot_map(
     window: float = 60.0,
 ) -> Path:
     """Write a PNG map of the busiest area: the latest AOU of every track within ``window``
-    seconds, coloured by the object the default association put it in (grey: alone), with the
-    true vessel positions. Needs matplotlib (``pip install "geofeas[plot]"``)."""
-    try:
-        import matplotlib
+    seconds on the coastline (GSHHG from Debian's ``gmt-gshhg-*`` files when installed), a scale
+    bar and a north arrow. Each object the default association merged has its own colour
+    (cycled through a qualitative palette with a second line style, so no two objects nearby look
+    alike); tracks left alone are grey. The truth is in the key: an object holding tracks of two
+    vessels is a false merge (thick red outline), a track whose vessel's other tracks were merged
+    without it is a miss (thick orange outline). AIS reports are drawn as their 20 m circles with
+    a dot at the centre so they stay visible at the map's scale. Needs matplotlib
+    (``pip install "geofeas[plot]"``)."""
+    plt = _pyplot()
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Ellipse
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        from matplotlib.lines import Line2D
-        from matplotlib.patches import Ellipse
-    except ImportError:
-        raise GeofeasError(
-            'the map needs matplotlib: pip install "geofeas[plot]" (or use --no-map)'
-        ) from None
+    from .review.coast import Coastline, coastline
+
     sc = result.scenario
     rep, sec = sc.reports, sc.seconds
     lat_c, lon_c, t_c = busy_window(rep, sec, size=size, window=window)
     m_lat, m_lon = metres_per_degree(lat_c)
-    snap = rep[(sec > t_c - window) & (sec <= t_c)].assign(
-        t=sec[(sec > t_c - window) & (sec <= t_c)]
-    )
+    sel = (sec > t_c - window) & (sec <= t_c)
+    snap = rep[sel].assign(t=sec[sel])
     snap = snap.sort_values("t").groupby("track_id").tail(1)
     x = (snap["lon"].to_numpy() - lon_c) * m_lon
     y = (snap["lat"].to_numpy() - lat_c) * m_lat
     half = size / 2 * 1.2
     objects = result.default.objects
-    obj = {}
+    obj: dict[str, int] = {}
     if objects is not None:
         sizes = objects.groupby("object")["track_id"].transform("size")
         grouped = np.where(sizes > 1, objects["object"], -1)
-        obj = dict(zip(objects["track_id"].astype(str), grouped, strict=True))
-    cmap = plt.get_cmap("tab20")
-    styles = {"ais": "-", "radar": "--", "aircraft": ":", "hfdf": "-."}
-    fig, ax = plt.subplots(figsize=(9, 9))
+        obj = dict(zip(objects["track_id"].astype(str), grouped.tolist(), strict=True))
+    mmsi = result.tracks["mmsi"]
+    # the truth behind each merged object: its vessels; a false merge holds two
+    members: dict[int, set[int]] = {}
+    for tid, o in obj.items():
+        if o != -1 and tid in mmsi.index and mmsi[tid] >= 0:
+            members.setdefault(o, set()).add(int(mmsi[tid]))
+    false_merge = {o for o, v in members.items() if len(v) > 1}
+    # a miss: a track of a vessel whose other tracks form an object it is not in
+    vessel_objects: dict[int, set[int]] = {}
+    for tid, o in obj.items():
+        if o != -1 and tid in mmsi.index and mmsi[tid] >= 0:
+            vessel_objects.setdefault(int(mmsi[tid]), set()).add(o)
+    palette = list(plt.get_cmap("tab10").colors) + list(plt.get_cmap("Dark2").colors)
     ids = sorted({v for v in obj.values() if v != -1})
-    colour_of = {o: cmap(k % 20) for k, o in enumerate(ids)}
+    style_of = {o: (palette[k % len(palette)], "-" if (k // len(palette)) % 2 == 0 else "--")
+                for k, o in enumerate(ids)}
+    fig, ax = plt.subplots(figsize=(9, 9))
+    west, east = lon_c - half / m_lon, lon_c + half / m_lon
+    south, north = lat_c - half / m_lat, lat_c + half / m_lat
+    try:
+        coast = coastline(south - 0.05, west - 0.05, north + 0.05, east + 0.05)
+        lines = coast.clip(south - 0.02, west - 0.02, north + 0.02, east + 0.02)
+    except ImportError:  # the coastline reader (h5py, shapely) is in the "review" extra
+        coast, lines = Coastline([], None), []
+    for line in lines:
+        ax.plot(
+            (line[:, 0] - lon_c) * m_lon / 1000,
+            (line[:, 1] - lat_c) * m_lat / 1000,
+            color="#8a6d3b",
+            lw=1.0,
+        )
+    n_false = n_miss = 0
     for (_, r), xi, yi in zip(snap.iterrows(), x, y, strict=True):
-        o = obj.get(str(r["track_id"]), -1)
-        colour = colour_of.get(o, (0.5, 0.5, 0.5, 1.0))
+        tid = str(r["track_id"])
+        o = obj.get(tid, -1)
+        colour, ls = style_of.get(o, ((0.55, 0.55, 0.55), ":"))
+        vessel = int(mmsi[tid]) if tid in mmsi.index else -1
+        missed = o == -1 and vessel >= 0 and bool(vessel_objects.get(vessel))
+        wrong = o in false_merge
+        n_false += int(wrong)
+        n_miss += int(missed)
+        if wrong or missed:
+            ax.add_patch(
+                Ellipse(
+                    (xi / 1000, yi / 1000),
+                    2 * r["rx"] / 1000,
+                    2 * r["ry"] / 1000,
+                    angle=90.0 - r["bearing"],
+                    fill=False,
+                    lw=3.2,
+                    ec="red" if wrong else "orange",
+                    alpha=0.5,
+                )
+            )
         ax.add_patch(
             Ellipse(
                 (xi / 1000, yi / 1000),
                 2 * r["rx"] / 1000,
                 2 * r["ry"] / 1000,
                 angle=90.0 - r["bearing"],
-                fill=False,
-                lw=1.2 if r["source"] != "hfdf" else 0.8,
-                ls=styles.get(r["source"], "-"),
+                fill=r["source"] == "ais",
+                fc=(*colour[:3], 0.35) if r["source"] == "ais" else "none",
+                lw=1.3 if r["source"] != "hfdf" else 0.8,
+                ls=ls,
                 ec=colour,
             )
         )
-    truth = rep[(rep["source"] == "ais") & (sec > t_c - window) & (sec <= t_c)]
-    ax.plot(
-        (truth["lon"] - lon_c) * m_lon / 1000,
-        (truth["lat"] - lat_c) * m_lat / 1000,
-        "k.",
-        ms=2,
-    )
+        if r["source"] == "ais":
+            ax.plot(xi / 1000, yi / 1000, marker="o", ms=2.5, color=colour)
     ax.set_xlim(-half / 1000, half / 1000)
     ax.set_ylim(-half / 1000, half / 1000)
     ax.set_aspect("equal")
     ax.set_xlabel(f"east of {lon_c:.4f}°, km")
     ax.set_ylabel(f"north of {lat_c:.4f}°, km")
+    # scale bar and north arrow
+    bar = 1.0 if half > 1500 else 0.2
+    x0, y0 = -half / 1000 * 0.92, -half / 1000 * 0.92
+    ax.plot([x0, x0 + bar], [y0, y0], color="k", lw=3)
+    ax.text(x0 + bar / 2, y0 + 0.04 * half / 1000, f"{bar:g} km", ha="center", fontsize=9)
+    ax.annotate(
+        "N",
+        xy=(half / 1000 * 0.9, half / 1000 * 0.9),
+        xytext=(half / 1000 * 0.9, half / 1000 * 0.72),
+        ha="center",
+        fontsize=11,
+        arrowprops=dict(arrowstyle="-|>", color="k"),
+    )
     stamp = pd.Timestamp(t_c, unit="s").strftime("%Y-%m-%d %H:%M:%S")
     ax.set_title(
-        f"AOUs (2-sigma) of the tracks reporting in the {window:g} s before {stamp} UTC,\n"
-        "coloured by associated object (grey: alone); "
-        f"{result.default.score} / {result.default.combine}"
+        f"AOUs (2-sigma) of the tracks reporting in the {window:g} s before {stamp} UTC: "
+        f"{len(ids)} objects merged,\n{n_false} tracks in false merges, {n_miss} missed tracks "
+        f"(by the truth); coastline: {'GSHHG' if coast.source else 'not installed'}"
     )
-    handles = [Line2D([], [], color="k", ls=ls, label=s) for s, ls in styles.items()]
-    handles.append(Line2D([], [], color="k", marker=".", ls="", label="AIS report"))
-    ax.legend(handles=handles, loc="upper right")
-    ax.grid(alpha=0.3)
+    handles = [
+        Line2D([], [], color="0.3", marker="o", ms=6, ls="", mfc=(0.3, 0.3, 0.3, 0.35),
+               label="AIS (20 m circle, dot at centre)"),
+        Line2D([], [], color="0.3", ls="-", label="radar / aircraft / HF DF AOU"),
+        Line2D([], [], color=palette[0], ls="-", label="one colour per merged object"),
+        Line2D([], [], color=(0.55, 0.55, 0.55), ls=":", label="left alone (no partner)"),
+        Line2D([], [], color="red", lw=3.2, alpha=0.5, label="false merge (two vessels)"),
+        Line2D([], [], color="orange", lw=3.2, alpha=0.5, label="missed: not with its vessel"),
+        Line2D([], [], color="#8a6d3b", label="coastline (GSHHG)"),
+    ]
+    ax.legend(handles=handles, loc="upper left", fontsize=8)
+    ax.grid(alpha=0.25)
     out = Path(path)
     save_figure(fig, out, dpi=130, bbox_inches="tight")
     plt.close(fig)
@@ -462,7 +525,7 @@ def plot_reliability(result: DemoResult, path: str | Path, /) -> Path:
     hist.set_xlabel("predicted P(same object)")
     hist.set_ylabel("pairs")
     out = Path(path)
-    fig.savefig(out, dpi=120, bbox_inches="tight")
+    save_figure(fig, out, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return out
 
@@ -485,7 +548,7 @@ def plot_operator(result: DemoResult, path: str | Path, /) -> Path:
     ax.legend(loc="lower right")
     ax.set_title(f"A truthful operator in review order ({_name(result)})")
     out = Path(path)
-    fig.savefig(out, dpi=120, bbox_inches="tight")
+    save_figure(fig, out, dpi=120, bbox_inches="tight")
     plt.close(fig)
     return out
 
