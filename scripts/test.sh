@@ -3,9 +3,9 @@
 # Installs what the tests need into the active Python environment, lints and tests the Rust core,
 # builds the wheel, installs it, then runs pytest against it.
 #
-# One cargo profile (`ci`: optimised, no LTO) serves `cargo test` and the wheel, with the same
-# interpreter for pyo3, so a rerun recompiles nothing that did not change. Fat-LTO builds are
-# for `pip install .` and `cargo bench` only.
+# One cargo profile (`ci`: optimised, no LTO) for `cargo test` and the wheel, with the same
+# interpreter for pyo3, so neither build invalidates the other and a rerun recompiles nothing
+# that did not change. Fat-LTO builds are for `pip install .` and `cargo bench` only.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=${PYTHON:-python3}
