@@ -306,3 +306,31 @@ def test_a_restart_loses_nothing_and_two_stations_share_the_log(tmp_path):
     assert [(e.operator, e.action) for e in three.log.decisions()] == [("ann", "same")]
     assert three.pair_row(top.track_a, top.track_b)["class"] == "match"
     assert three.progress()["decided"] == 1
+
+
+def test_a_saved_association_is_reviewed_as_it_was_computed(tmp_path):
+    path = tmp_path / "picture.csv"
+    picture().to_csv(path, index=False)
+    original = geofeas.associate(path, p_match=0.995, sweeps=200)
+    saved = original.save(tmp_path / "saved")
+    assert {p.name for p in saved.iterdir()} == {
+        "reports.parquet",
+        "pairs.parquet",
+        "objects.parquet",
+        "options.json",
+    }
+    again = geofeas.load_association(saved)
+    np.testing.assert_array_equal(again.pairs["p_same"], original.pairs["p_same"])
+    assert list(again.pairs["class"]) == list(original.pairs["class"])
+    s = Station(saved, tmp_path / "d.sqlite", operator="ann", background=False)
+    try:
+        assert s.options["p_match"] == 0.995
+        queue = s.snapshot.queue
+        assert list(queue["review_rank"]) == list(original.review_queue["review_rank"])
+    finally:
+        s.close()
+    with pytest.raises(geofeas.GeofeasError, match="not a saved association"):
+        geofeas.load_association(tmp_path)
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(geofeas.GeofeasError, match="not a saved association"):
+        Station(tmp_path / "empty", tmp_path / "e.sqlite", background=False)

@@ -6,7 +6,14 @@ Scores"), computed in a Rust core.
 """
 
 from ._core import GeofeasError, __version__
-from .association import Association, Reports, associate, combine_instants, read_reports
+from .association import (
+    Association,
+    Reports,
+    associate,
+    combine_instants,
+    load_association,
+    read_reports,
+)
 from .decisions import read_decisions
 from .scores import (
     DEFAULT_VERTICES,
@@ -28,6 +35,7 @@ __all__ = [
     "Reports",
     "associate",
     "combine_instants",
+    "load_association",
     "read_decisions",
     "read_reports",
     "DEFAULT_VERTICES",

@@ -34,7 +34,10 @@ def main(args: argparse.Namespace) -> int:
         print(f"wrote {out}")
         return 0
     if args.picture is None:
-        raise GeofeasError("PICTURE: the reports file to review is required (or use --export)")
+        raise GeofeasError(
+            "PICTURE: the reports file or saved association to review is required "
+            "(or use --export)"
+        )
     if not (0 <= args.port <= 65535):
         raise GeofeasError(f"--port: {args.port} is not a port number (0 takes a free port)")
     try:
@@ -73,7 +76,13 @@ def add_parser(sub: argparse._SubParsersAction) -> None:  # type: ignore[type-ar
         description=__doc__,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("picture", nargs="?", metavar="PICTURE", help="reports file (.csv / .parquet)")
+    p.add_argument(
+        "picture",
+        nargs="?",
+        metavar="PICTURE",
+        help="reports file (.csv / .parquet), or a saved association (a folder written by "
+        "Association.save)",
+    )
     p.add_argument("--db", required=True, metavar="DECISIONS.sqlite", help="the decision log")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (127.0.0.1)")
     p.add_argument("--port", type=int, default=0, help="port (0: a free port)")

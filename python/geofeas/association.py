@@ -30,6 +30,7 @@ __all__ = [
     "Reports",
     "associate",
     "combine_instants",
+    "load_association",
     "read_reports",
 ]
 
@@ -623,6 +624,32 @@ class Association:
         )
         return self.pairs.iloc[rows[np.asarray(chosen, dtype=np.intp)]].reset_index(drop=True)
 
+    def save(self, directory: str | os.PathLike[str]) -> Path:
+        """Save the result into ``directory`` (created if absent) so that it can be reviewed or
+        reloaded: ``reports.parquet`` (the picture as read), ``pairs.parquet``,
+        ``objects.parquet`` and ``options.json`` (the options it was computed with), written
+        as one transaction. :func:`load_association` reads it back; ``geofeas review DIRECTORY``
+        reviews it."""
+        import json
+
+        out = Path(directory)
+        out.mkdir(parents=True, exist_ok=True)
+        opts = {k: v for k, v in self.options.items() if not isinstance(v, Mapping)}
+        with atomic_paths(
+            out / "reports.parquet",
+            out / "pairs.parquet",
+            out / "objects.parquet",
+            out / "options.json",
+        ) as (rep, pairs, objects, options):
+            frame = self.reports.frame.copy()
+            for col in ("track_id", "source"):
+                frame[col] = frame[col].astype(str)
+            frame.to_parquet(rep, index=False)
+            self.pairs.to_parquet(pairs, index=False)
+            self.objects.to_parquet(objects, index=False)
+            options.write_text(json.dumps(opts, indent=1, sort_keys=True), encoding="utf-8")
+        return out
+
     def to_file(self, path: str | os.PathLike[str]) -> None:
         """Write :attr:`pairs` to a ``.csv`` or ``.parquet`` file (by extension)."""
         write_table(self.pairs, path)
@@ -892,6 +919,24 @@ def associate(
     result = Association(rep, raw, recorded)
     result.decisions = dec
     return result
+
+
+def load_association(directory: str | os.PathLike[str], /) -> Association:
+    """The association saved by :meth:`Association.save` in ``directory``, recomputed from its
+    reports and options (the engine is deterministic for given options and seeds)."""
+    import json
+
+    d = Path(directory)
+    for name in ("reports.parquet", "options.json"):
+        if not (d / name).is_file():
+            raise GeofeasError(f"{d}: not a saved association ({name} is missing)")
+    try:
+        options = json.loads((d / "options.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError) as exc:
+        raise GeofeasError(f"{d / 'options.json'}: cannot read the options ({exc})") from None
+    if not isinstance(options, dict):
+        raise GeofeasError(f"{d / 'options.json'}: expected an object of options")
+    return associate(read_reports(d / "reports.parquet"), **options)
 
 
 def combine_instants(

@@ -118,9 +118,22 @@ class Station:
         poll: float = 1.0,
     ) -> None:
         self.picture = Path(picture) if isinstance(picture, (str, os.PathLike)) else None
+        saved: dict[str, Any] = {}
+        if self.picture is not None and self.picture.is_dir():
+            # a saved association result (Association.save): its reports and options
+            import json
+
+            for name in ("reports.parquet", "options.json"):
+                if not (self.picture / name).is_file():
+                    raise GeofeasError(
+                        f"PICTURE: {self.picture} is a folder but not a saved association "
+                        f"({name} is missing)"
+                    )
+            saved = json.loads((self.picture / "options.json").read_text(encoding="utf-8"))
+            picture = self.picture / "reports.parquet"
         self.reports: Reports = read_reports(picture)
         self.operator = operator
-        self.options = dict(options or {})
+        self.options = {**saved, **dict(options or {})}
         self.spans = spans_of(self.reports)
         self.log = DecisionLog(db, spans=self.spans)
         self.index = {str(t): k for k, t in enumerate(self.reports.track_ids)}
