@@ -20,7 +20,14 @@ import argparse
 import time
 from typing import Any
 
-from .association import COMBINE_RULES, SCORES, associate, read_reports, write_tables
+from .association import (
+    ASSOCIATION_DEFAULTS,
+    COMBINE_RULES,
+    SCORES,
+    associate,
+    read_reports,
+    write_tables,
+)
 
 #: The columns of the pairs file.
 PAIR_COLUMNS = ("track_a", "track_b", "score", "instants", "class", "p_same", "review_rank")
@@ -90,6 +97,23 @@ def _inflation(text: str) -> str:
     return text
 
 
+def add_triage_arguments(p: argparse.ArgumentParser) -> None:
+    """The triage thresholds, with the defaults of :func:`geofeas.associate`."""
+    defaults = ASSOCIATION_DEFAULTS
+    p.add_argument(
+        "--p-match",
+        type=float,
+        default=defaults["p_match"],
+        help=f"match when p_same >= this (default {defaults['p_match']})",
+    )
+    p.add_argument(
+        "--p-reject",
+        type=float,
+        default=defaults["p_reject"],
+        help=f"non-match when p_same <= this (default {defaults['p_reject']})",
+    )
+
+
 def add_parser(sub: Any) -> None:
     p = sub.add_parser(
         "associate",
@@ -108,15 +132,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--decisions", help="operator decisions to respect (.csv or .parquet; read only)"
     )
-    p.add_argument(
-        "--p-match", type=float, default=0.99, help="match when p_same >= this (default 0.99)"
-    )
-    p.add_argument(
-        "--p-reject",
-        type=float,
-        default=0.01,
-        help="non-match when p_same <= this (default 0.01)",
-    )
+    add_triage_arguments(p)
     p.add_argument(
         "--completeness",
         type=float,

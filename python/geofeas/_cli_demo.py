@@ -22,6 +22,7 @@ import argparse
 import sys
 from typing import Any
 
+from ._cli_associate import add_triage_arguments
 from ._core import GeofeasError
 from .association import COMBINE_RULES
 
@@ -172,15 +173,7 @@ def add_parser(sub: Any) -> None:
         choices=list(COMBINE_RULES),
         help="also associate with this rule for the comparison table (repeatable)",
     )
-    p.add_argument(
-        "--p-match", type=float, default=0.99, help="match when p_same >= this (default 0.99)"
-    )
-    p.add_argument(
-        "--p-reject",
-        type=float,
-        default=0.01,
-        help="non-match when p_same <= this (default 0.01)",
-    )
+    add_triage_arguments(p)
     p.add_argument(
         "--no-operator", action="store_true", help="do not simulate the operator"
     )
