@@ -522,7 +522,9 @@ def test_pipeline_outputs(short_demo, tmp_path):
     ece = (cal["n"] * (cal["predicted"] - cal["observed"]).abs()).sum() / cal["n"].sum()
     assert ece == pytest.approx(res.ece, abs=1e-4)
     op = pd.read_csv(tmp_path / "out" / "operator.csv")
-    assert list(op["decisions"]) == [0, 10, 20] or list(op["decisions"])[0] == 0
+    # every checkpoint is recorded, in order, from no decision at all (the 10-minute picture has
+    # more than 20 borderline pairs to answer)
+    assert list(op["decisions"]) == [0, 10, 20]
     assert op["f1"].iloc[0] == pytest.approx(res.default.metrics.f1, abs=1e-4)
     # a truthful operator never makes the association worse
     assert (op["f1"].diff().fillna(0) >= -1e-9).all()

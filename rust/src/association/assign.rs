@@ -30,25 +30,6 @@ impl Class {
     }
 }
 
-/// What the grouping needs to know about each track.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TrackInfo {
-    pub source: u32,
-    pub start: f64,
-    pub end: f64,
-    /// The track's typical AOU size `sqrt(det R)` (m^2), from the smallest and largest `rx * ry`
-    /// of its reports: `sqrt(min * max) / 4` (see [`TrackInfo::spread_of`]); 0 when unknown, and
-    /// the track has no precision rank.
-    pub spread: f64,
-}
-
-impl TrackInfo {
-    /// `spread` from the smallest and largest `rx * ry` of a track's reports.
-    pub fn spread_of(area_min: f64, area_max: f64) -> f64 {
-        0.25 * (area_min * area_max).sqrt()
-    }
-}
-
 /// The one-to-one assignment between the tracks on the two sides of `pairs` (`pairs[k].0` on
 /// the left, `.1` on the right) maximising the total score over edges scoring at least
 /// `min_score`; returns the indices of the chosen pairs, sorted.

@@ -424,7 +424,7 @@ pub fn track_summaries(r: &Reports) -> Vec<posterior::Track> {
                 source: r.source[t],
                 start,
                 end,
-                spread: assign::TrackInfo::spread_of(area_min, area_max),
+                spread: posterior::Track::spread_of(area_min, area_max),
             }
         })
         .collect()

@@ -57,6 +57,12 @@ pub struct Track {
 }
 
 impl Track {
+    /// `spread` from the smallest and largest `rx * ry` of a track's reports: `sqrt(min * max)
+    /// / 4`, the track's typical `sqrt(det R)`.
+    pub fn spread_of(area_min: f64, area_max: f64) -> f64 {
+        0.25 * (area_min * area_max).sqrt()
+    }
+
     fn conflicts(&self, o: &Track) -> bool {
         self.source == o.source && self.start < o.end && o.start < self.end
     }
@@ -435,11 +441,6 @@ fn components(
     Ok(comps)
 }
 
-/// A labelled partition of a component's blocks with its log-weight.
-struct Sample {
-    labels: Vec<u32>,
-}
-
 /// Marginals of one component from weighted partitions (`labels` per block).
 struct Marginals {
     p_pair: Vec<f64>,
@@ -448,7 +449,7 @@ struct Marginals {
     partitions: u64,
     method: Method,
     /// The partitions with their normalised weights (exact) or equal weights (sampled).
-    samples: Vec<Sample>,
+    samples: Vec<Vec<u32>>,
     weights: Vec<f64>,
 }
 
@@ -626,7 +627,7 @@ impl<'a> Chain<'a> {
     fn moves(&mut self, b: u32) -> Vec<(Move, f64)> {
         let comp = self.comp;
         let old = self.label[b as usize];
-        let mine: Vec<u32> = comp.blocks[b as usize].clone();
+        let mine = &comp.blocks[b as usize];
         let old_rest: Vec<u32> = self.cell_tracks[old as usize]
             .iter()
             .copied()
@@ -656,13 +657,13 @@ impl<'a> Chain<'a> {
             let conflicts: Vec<u32> = cell
                 .iter()
                 .copied()
-                .filter(|&k| !comp.compatible(&comp.blocks[k as usize], &mine))
+                .filter(|&k| !comp.compatible(&comp.blocks[k as usize], mine))
                 .collect();
             let w_c = self.cell_w[c as usize];
             match conflicts.len() {
                 0 => {
                     let mut joined = self.cell_tracks[c as usize].clone();
-                    joined.extend_from_slice(&mine);
+                    joined.extend_from_slice(mine);
                     let w = self.weight_of(&joined);
                     if w > f64::NEG_INFINITY && w_old_rest > f64::NEG_INFINITY {
                         out.push((Move::Join(c), w + w_old_rest - w_c - w_old));
@@ -681,7 +682,7 @@ impl<'a> Chain<'a> {
                         .copied()
                         .filter(|x| !conflicts.contains(&comp.block_of[*x as usize]))
                         .collect();
-                    joined.extend_from_slice(&mine);
+                    joined.extend_from_slice(mine);
                     let mut back = old_rest.clone();
                     back.extend_from_slice(&kt);
                     let (w1, w2) = (self.weight_of(&joined), self.weight_of(&back));
@@ -831,7 +832,7 @@ fn infer(comp: &Component, inf: &Inference) -> Marginals {
             p_alone,
             partitions: labels.len() as u64,
             method: Method::Exact,
-            samples: labels.into_iter().map(|labels| Sample { labels }).collect(),
+            samples: labels,
             weights,
         };
     }
@@ -902,11 +903,7 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
     let p_alone: Vec<f64> = (0..comp.tracks.len())
         .map(|i| mean_sd(&chain_a, i).0)
         .collect();
-    let samples: Vec<Sample> = per_chain
-        .into_iter()
-        .flatten()
-        .map(|labels| Sample { labels })
-        .collect();
+    let samples: Vec<Vec<u32>> = per_chain.into_iter().flatten().collect();
     let w = 1.0 / samples.len() as f64;
     Marginals {
         p_pair,
@@ -965,12 +962,12 @@ fn review_gain(
             let mut joint = vec![0.0; near.len()];
             let mut marg = vec![0.0; near.len()];
             for (s, &w) in m.samples.iter().zip(&m.weights) {
-                let si = same_in(&s.labels, i);
+                let si = same_in(s, i);
                 if si {
                     w_same += w;
                 }
                 for (j, &q) in near.iter().enumerate() {
-                    if same_in(&s.labels, q) {
+                    if same_in(s, q) {
                         marg[j] += w;
                         if si {
                             joint[j] += w;
