@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pandas as pd
 import pytest
 from review_picture import picture
 
@@ -311,7 +312,9 @@ def test_a_restart_loses_nothing_and_two_stations_share_the_log(tmp_path):
 def test_a_saved_association_is_reviewed_as_it_was_computed(tmp_path):
     path = tmp_path / "picture.csv"
     picture().to_csv(path, index=False)
-    original = geofeas.associate(path, p_match=0.995, sweeps=200)
+    sources = sorted(set(pd.read_csv(path)["source"].astype(str)))
+    shares = {src: 0.02 for src in sources}
+    original = geofeas.associate(path, p_match=0.995, sweeps=200, false_tracks=shares)
     saved = original.save(tmp_path / "saved")
     assert {p.name for p in saved.iterdir()} == {
         "reports.parquet",
@@ -320,6 +323,7 @@ def test_a_saved_association_is_reviewed_as_it_was_computed(tmp_path):
         "options.json",
     }
     again = geofeas.load_association(saved)
+    assert again.options["false_tracks"] == shares  # every option kept, none dropped
     np.testing.assert_array_equal(again.pairs["p_same"], original.pairs["p_same"])
     assert list(again.pairs["class"]) == list(original.pairs["class"])
     s = Station(saved, tmp_path / "d.sqlite", operator="ann", background=False)

@@ -634,7 +634,10 @@ class Association:
 
         out = Path(directory)
         out.mkdir(parents=True, exist_ok=True)
-        opts = {k: v for k, v in self.options.items() if not isinstance(v, Mapping)}
+        try:
+            text = json.dumps(self.options, indent=1, sort_keys=True)
+        except TypeError as exc:
+            raise GeofeasError(f"save: the options cannot be written as JSON ({exc})") from None
         with atomic_paths(
             out / "reports.parquet",
             out / "pairs.parquet",
@@ -647,7 +650,7 @@ class Association:
             frame.to_parquet(rep, index=False)
             self.pairs.to_parquet(pairs, index=False)
             self.objects.to_parquet(objects, index=False)
-            options.write_text(json.dumps(opts, indent=1, sort_keys=True), encoding="utf-8")
+            options.write_text(text, encoding="utf-8")
         return out
 
     def to_file(self, path: str | os.PathLike[str]) -> None:

@@ -461,11 +461,13 @@ def write_outputs(result: DemoResult, out: str | Path, *, map_png: bool = True) 
         written.append(p)
     if result.calibration is not None:
         p = d / "calibration.csv"
-        result.calibration.to_csv(p, index=False, float_format="%.5f")
+        with atomic_path(p) as tmp:
+            result.calibration.to_csv(tmp, index=False, float_format="%.5f")
         written.append(p)
     if result.operator is not None:
         p = d / "operator.csv"
-        result.operator.to_csv(p, index=False, float_format="%.4f")
+        with atomic_path(p) as tmp:
+            result.operator.to_csv(tmp, index=False, float_format="%.4f")
         written.append(p)
     if map_png:
         written.append(plot_map(result, d / "map.png"))
