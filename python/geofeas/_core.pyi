@@ -13,6 +13,7 @@ __all__ = [
     "association_candidates",
     "association_default_upper",
     "association_finish",
+    "association_time_cover",
     "association_pair_stats",
     "association_picture_counts",
     "combine_instants",
@@ -347,11 +348,22 @@ def association_picture_counts(
     geographic: bool,
     options: dict[str, Any],
 ) -> dict[str, Any]: ...
+def association_time_cover(
+    track: NDArray[np.uint32],
+    source: NDArray[np.uint32],
+    time: NDArray[np.float64],
+    aou: NDArray[np.float64],
+    n_tracks: int,
+    *,
+    geographic: bool,
+    options: dict[str, Any],
+) -> dict[str, Any]: ...
 def association_finish(
     source: NDArray[np.uint32],
-    start: NDArray[np.float64],
-    end: NDArray[np.float64],
     spread: NDArray[np.float64],
+    cover_offsets: NDArray[np.uint32],
+    cover_start: NDArray[np.float64],
+    cover_end: NDArray[np.float64],
     a: NDArray[np.uint32],
     b: NDArray[np.uint32],
     stats: dict[str, NDArray[Any]],

@@ -568,9 +568,10 @@ class Association:
         )
         out = _core.association_finish(
             raw["track_source"],
-            raw["track_start"],
-            raw["track_end"],
             raw["track_spread"],
+            raw["time_cover"]["cover_offsets"],
+            raw["time_cover"]["cover_start"],
+            raw["time_cover"]["cover_end"],
             np.ascontiguousarray(raw["a"], dtype=np.uint32),
             np.ascontiguousarray(raw["b"], dtype=np.uint32),
             raw["stats"],

@@ -457,24 +457,30 @@ def _pairs_frame(n: int = 0) -> dict[str, Any]:
 
 
 def _home_counts(
-    rep: Reports, home: NDArray[np.bool_], geographic: bool, options: dict[str, Any]
-) -> dict[str, Any] | None:
+    rep: Reports,
+    home: NDArray[np.bool_],
+    gid: NDArray[np.int64],
+    geographic: bool,
+    options: dict[str, Any],
+) -> tuple[dict[str, Any], dict[str, Any]] | None:
     """The engine's picture counts of the tracks of ``rep`` whose home tile this is (each track
     has exactly one, so the counts of all tiles add up to the whole picture's), with sources
-    as their indices among all the picture's sources."""
+    as their indices among all the picture's sources; and the engine's time cover of those
+    tracks (``association_time_cover``) with their global indices (``track``)."""
     keep = home[rep.track]
     if not keep.any():
         return None
     tracks, track = np.unique(rep.track[keep], return_inverse=True)
-    counts = _core.association_picture_counts(
+    args = (
         np.ascontiguousarray(track.reshape(-1), dtype=np.uint32),
         np.ascontiguousarray(rep.source[keep]),
         np.ascontiguousarray(rep.time[keep]),
         np.ascontiguousarray(rep.aou[keep]),
         len(tracks),
-        geographic=geographic,
-        options=options,
     )
+    counts = _core.association_picture_counts(*args, geographic=geographic, options=options)
+    cover = dict(_core.association_time_cover(*args, geographic=geographic, options=options))
+    cover["track"] = gid[tracks]
     # the tile numbers sources among those it holds; their values are the picture's indices
     glob = np.asarray(rep.sources, dtype=np.int64)
     micros = np.asarray(counts["micros"], dtype=np.uint64)
@@ -482,7 +488,24 @@ def _home_counts(
     whole[glob[: len(micros)]] = micros
     counts["micros"] = whole
     counts["cell_source"] = glob[np.asarray(counts["cell_source"], np.intp)].astype(np.uint32)
-    return dict(counts)
+    return dict(counts), cover
+
+
+def _time_cover(pieces: list[dict[str, Any]], n_tracks: int) -> dict[str, NDArray[Any]]:
+    """The time cover of every track (global order) from the pieces of the home tiles."""
+    track = np.concatenate([np.asarray(p["track"], np.int64) for p in pieces] or [np.zeros(0)])
+    if len(track) != n_tracks or (np.sort(track) != np.arange(n_tracks)).any():
+        raise GeofeasError("internal: the home tiles do not hold every track once")
+    lengths = np.concatenate([np.diff(np.asarray(p["cover_offsets"], np.int64)) for p in pieces])
+    start = np.concatenate([np.asarray(p["cover_start"], np.float64) for p in pieces])
+    end = np.concatenate([np.asarray(p["cover_end"], np.float64) for p in pieces])
+    first = np.cumsum(lengths) - lengths
+    order = np.argsort(track, kind="stable")
+    rows = np.concatenate(
+        [np.arange(first[k], first[k] + lengths[k]) for k in order] or [np.zeros(0, np.int64)]
+    ).astype(np.intp)
+    offsets = np.r_[0, np.cumsum(lengths[order])].astype(np.uint32)
+    return {"cover_offsets": offsets, "cover_start": start[rows], "cover_end": end[rows]}
 
 
 def _score_tiles(
@@ -491,7 +514,7 @@ def _score_tiles(
     columns: tuple[str, ...],
     shared: tuple[Any, ...],
     options: dict[str, Any],
-) -> tuple[pd.DataFrame, list[dict[str, Any]]]:
+) -> tuple[pd.DataFrame, list[dict[str, Any]], list[dict[str, Any]]]:
     """The candidate pairs each tile of a partition owns, with the engine's summaries, and the
     picture counts of the tracks whose home the tile is.
 
@@ -506,6 +529,7 @@ def _score_tiles(
     }
     out = [pd.DataFrame(_pairs_frame())]
     counts: list[dict[str, Any]] = []
+    covers: list[dict[str, Any]] = []
     for tile, rows in part.groupby("_tile", sort=True):
         rows = rows.sort_values("_row", kind="stable")  # the caller's order
         try:  # whole tracks here: the cross-report checks (one source, distinct times) bite
@@ -528,9 +552,10 @@ def _score_tiles(
             err.row = None if exc.row is None else int(rows["_row"].to_numpy(np.int64)[exc.row])
             raise err from None
         gid = np.asarray(rep.track_ids, dtype=np.int64)
-        c = _home_counts(rep, home_tile[gid] == tile, geographic, options)
+        c = _home_counts(rep, home_tile[gid] == tile, gid, geographic, options)
         if c is not None:
-            counts.append(c)
+            counts.append(c[0])
+            covers.append(c[1])
         track, source, time, aou, n_local = rep._core_args()
         a, b = _core.association_candidates(
             track, source, time, aou, n_local, geographic=geographic, **index
@@ -565,7 +590,7 @@ def _score_tiles(
         for name_, dtype in _STATS:
             frame[name_] = np.asarray(stats[name_], dtype)
         out.append(pd.DataFrame(frame))
-    return pd.concat(out, ignore_index=True), counts
+    return pd.concat(out, ignore_index=True), counts, covers
 
 
 def _tile_size(
@@ -779,7 +804,10 @@ def _run(
     done = dask.compute(*[score(p, coords, columns, lookup, options) for p in tiled.to_delayed()])
     pairs = pd.concat([d[0] for d in done], ignore_index=True)
     counts = [c for d in done for c in d[1]]
-    return _gather(pairs, counts, tracks, track_reports, dec, coords, options, recorded, n_tiles)
+    cover = _time_cover([c for d in done for c in d[2]], len(tracks))
+    return _gather(
+        pairs, counts, cover, tracks, track_reports, dec, coords, options, recorded, n_tiles
+    )
 
 
 def _track_reports(
@@ -806,6 +834,7 @@ def _track_reports(
 def _gather(
     pairs: pd.DataFrame,
     counts: list[dict[str, Any]],
+    cover: dict[str, NDArray[Any]],
     tracks: pd.DataFrame,
     track_reports: Reports,
     decisions: Decisions,
@@ -836,9 +865,10 @@ def _gather(
     )
     raw = _core.association_finish(
         track_reports.source,
-        np.ascontiguousarray(tracks["start"].to_numpy(np.float64)),
-        np.ascontiguousarray(tracks["end"].to_numpy(np.float64)),
         np.ascontiguousarray(spread),
+        cover["cover_offsets"],
+        cover["cover_start"],
+        cover["cover_end"],
         np.ascontiguousarray(a[keep]),
         np.ascontiguousarray(b[keep]),
         stats,

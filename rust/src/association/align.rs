@@ -228,6 +228,155 @@ pub fn common_instants(r: &Reports, a: usize, b: usize, o: &Alignment) -> Vec<In
     out
 }
 
+/// When each track has a state ([`state_at`]): per track, its chains of reports with gaps of at
+/// most `max_gap` as closed time intervals (a lone report is a point), sorted and disjoint, and
+/// `horizon` seconds beyond its first and last report. Two tracks have a common instant
+/// ([`common_instants`]) exactly when [`TimeCover::meet`] says so: the posterior needs this to
+/// tell tracks that were compared (and found far apart, so are two objects) from tracks that
+/// never existed at a common instant (a DF track with fixes ten minutes apart and an aircraft
+/// track of a few minutes between two fixes), which the evidence says nothing about.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TimeCover {
+    /// Track `t`'s intervals are `spans[offsets[t]..offsets[t + 1]]`.
+    pub offsets: Vec<u32>,
+    /// `[first, last]` report time of every chain.
+    pub spans: Vec<[f64; 2]>,
+    /// The extrapolation horizon (s).
+    pub horizon: f64,
+}
+
+impl TimeCover {
+    /// The coverage of every track of `r` under the alignment `o`.
+    pub fn of(r: &Reports, o: &Alignment) -> Self {
+        let mut offsets = Vec::with_capacity(r.n_tracks + 1);
+        let mut spans = Vec::new();
+        offsets.push(0u32);
+        for t in 0..r.n_tracks {
+            let ts = r.times(t);
+            let mut lo = ts[0];
+            for w in ts.windows(2) {
+                if w[1] - w[0] > o.max_gap {
+                    spans.push([lo, w[0]]);
+                    lo = w[1];
+                }
+            }
+            spans.push([lo, ts[ts.len() - 1]]);
+            offsets.push(spans.len() as u32);
+        }
+        Self {
+            offsets,
+            spans,
+            horizon: o.horizon,
+        }
+    }
+
+    /// One interval per track from `start` to `end` (tracks reported without long gaps).
+    pub fn whole(spans: impl IntoIterator<Item = (f64, f64)>, horizon: f64) -> Self {
+        let spans: Vec<[f64; 2]> = spans.into_iter().map(|(a, b)| [a, b]).collect();
+        Self {
+            offsets: (0..=spans.len() as u32).collect(),
+            spans,
+            horizon,
+        }
+    }
+
+    /// A coverage given as arrays (from another process), checked: `offsets` start at 0, never
+    /// decrease and end at `spans.len()`, and every track's intervals are finite, ordered and
+    /// disjoint.
+    pub fn from_parts(
+        offsets: Vec<u32>,
+        spans: Vec<[f64; 2]>,
+        horizon: f64,
+    ) -> crate::Result<Self> {
+        let bad = |m: String| Err(crate::Error::Invalid(m));
+        if offsets.first() != Some(&0) || *offsets.last().unwrap_or(&0) as usize != spans.len() {
+            return bad(format!(
+                "coverage offsets must start at 0 and end at {} (the number of intervals)",
+                spans.len()
+            ));
+        }
+        if !(horizon.is_finite() && horizon >= 0.0) {
+            return bad(format!(
+                "coverage horizon must be finite and >= 0, got {horizon}"
+            ));
+        }
+        for (t, w) in offsets.windows(2).enumerate() {
+            if w[0] >= w[1] {
+                return bad(format!("coverage of track {t}: no interval"));
+            }
+            let s = &spans[w[0] as usize..w[1] as usize];
+            if s.iter()
+                .any(|x| !(x[0].is_finite() && x[1].is_finite() && x[0] <= x[1]))
+                || s.windows(2).any(|p| p[0][1] >= p[1][0])
+            {
+                return bad(format!(
+                    "coverage of track {t}: intervals must be finite, ordered and disjoint"
+                ));
+            }
+        }
+        Ok(Self {
+            offsets,
+            spans,
+            horizon,
+        })
+    }
+
+    /// Number of tracks.
+    pub fn len(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    /// Whether there is no track.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The intervals of track `t`.
+    pub fn of_track(&self, t: usize) -> &[[f64; 2]] {
+        &self.spans[self.offsets[t] as usize..self.offsets[t + 1] as usize]
+    }
+
+    /// First and last report time of track `t`.
+    pub fn span(&self, t: usize) -> (f64, f64) {
+        let s = self.of_track(t);
+        (s[0][0], s[s.len() - 1][1])
+    }
+
+    /// Whether tracks `a` and `b` have a common instant: a report of one at which the other has
+    /// a state. Two chains that overlap hold one (the later start is a report inside the other
+    /// chain); otherwise only the horizon can give one, and then a chain end of one track lies
+    /// in the other's horizon window.
+    pub fn meet(&self, a: usize, b: usize) -> bool {
+        let (sa, sb) = (self.of_track(a), self.of_track(b));
+        let (mut i, mut j) = (0, 0);
+        while i < sa.len() && j < sb.len() {
+            if sa[i][0] <= sb[j][1] && sb[j][0] <= sa[i][1] {
+                return true;
+            }
+            if sa[i][1] < sb[j][1] {
+                i += 1;
+            } else {
+                j += 1;
+            }
+        }
+        if self.horizon > 0.0 {
+            let h = self.horizon;
+            let ends_in = |s: &[[f64; 2]], lo: f64, hi: f64| {
+                // the smallest chain end at or after lo
+                let k = s.partition_point(|x| x[1] < lo);
+                k < s.len() && (if s[k][0] >= lo { s[k][0] } else { s[k][1] }) <= hi
+            };
+            for (x, y) in [(sa, sb), (sb, sa)] {
+                let (first, last) = (x[0][0], x[x.len() - 1][1]);
+                if ends_in(y, first - h, first) || ends_in(y, last, last + h) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -284,6 +433,54 @@ mod tests {
         let o = Alignment::default();
         assert!(state_at(&r, 0, 0.5, &o).is_some());
         assert!(state_at(&r, 0, 200.0, &o).is_none());
+    }
+
+    /// `TimeCover::meet` against the definition: `common_instants` is not empty.
+    #[test]
+    fn coverage_meets_exactly_when_there_is_a_common_instant() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(7);
+        let (mut met, mut apart) = (0, 0);
+        for case in 0..3000 {
+            let n_tracks = 2;
+            let (mut track, mut time) = (Vec::new(), Vec::new());
+            for t in 0..n_tracks {
+                let n = rng.random_range(1..7);
+                let mut x: f64 = rng.random_range(0.0..400.0);
+                for _ in 0..n {
+                    track.push(t as u32);
+                    time.push(x.round());
+                    x += [5.0, 60.0, 250.0, 400.0][rng.random_range(0..4)];
+                }
+            }
+            let aou = vec![[0.0, 0.0, 10.0, 10.0, 0.0]; time.len()];
+            let r = Reports::new(Coords::Planar, n_tracks, &track, &track, &time, &aou).unwrap();
+            let o = Alignment {
+                max_gap: 300.0,
+                horizon: [0.0, 30.0, 120.0][case % 3],
+                process_noise: 1.0,
+            };
+            let cov = TimeCover::of(&r, &o);
+            let truth = !common_instants(&r, 0, 1, &o).is_empty();
+            assert_eq!(cov.meet(0, 1), truth, "case {case}: {time:?}");
+            assert_eq!(cov.meet(1, 0), truth, "case {case}: {time:?}");
+            if truth {
+                met += 1;
+            } else {
+                apart += 1;
+            }
+        }
+        assert!(met > 500 && apart > 500, "{met} {apart}");
+    }
+
+    #[test]
+    fn coverage_parts_are_checked() {
+        assert!(TimeCover::from_parts(vec![0, 1], vec![[0.0, 1.0]], 0.0).is_ok());
+        assert!(TimeCover::from_parts(vec![0, 2], vec![[0.0, 1.0], [1.0, 2.0]], 0.0).is_err());
+        assert!(TimeCover::from_parts(vec![0, 1], vec![[2.0, 1.0]], 0.0).is_err());
+        assert!(TimeCover::from_parts(vec![0, 0], vec![], 0.0).is_err());
+        assert!(TimeCover::from_parts(vec![1], vec![[0.0, 1.0]], 0.0).is_err());
+        assert!(TimeCover::from_parts(vec![0, 1], vec![[0.0, f64::NAN]], 0.0).is_err());
     }
 
     #[test]

@@ -270,9 +270,99 @@ pub fn effective_instants(times: &[f64], tau: f64) -> f64 {
     (k * k / (k + 2.0 * total)).clamp(1.0, k)
 }
 
+/// The effective number of independent instants of a track pair (`docs/association.md`, "The
+/// joint model"): the error of the difference at instant `t` is the sum of the two tracks'
+/// errors there, each that of the track's report nearest to `t` (an interpolated state carries
+/// the errors of the reports around it, so instants between two sparse reports share them),
+/// correlated over the tracker's correlation time `tau` as in [`effective_instants`]. With
+/// `K_x` the effective count of track `x`'s errors at the instants and `w_x` its share of the
+/// summed covariance traces, the variance of a mean over the instants gives
+/// `k_eff = 1 / (w_a / K_a + w_b / K_b)`, between the two counts and at most `k`.
+///
+/// `times` are the instants (sorted), `reports_a` / `reports_b` the report times of each track
+/// (sorted), `share_a` is `w_a`.
+pub fn pair_effective_instants(
+    times: &[f64],
+    reports_a: &[f64],
+    reports_b: &[f64],
+    share_a: f64,
+    tau: f64,
+) -> f64 {
+    let k = times.len() as f64;
+    if times.len() < 2 {
+        return k;
+    }
+    let count = |reports: &[f64]| {
+        let snap = |t: f64| {
+            let j = reports.partition_point(|&x| x < t);
+            match (j.checked_sub(1).map(|i| reports[i]), reports.get(j)) {
+                (Some(lo), Some(&hi)) => {
+                    if t - lo <= hi - t {
+                        lo
+                    } else {
+                        hi
+                    }
+                }
+                (Some(lo), None) => lo,
+                (None, Some(&hi)) => hi,
+                (None, None) => t,
+            }
+        };
+        // sum_ij rho_ij over the snapped times (non-decreasing), equal times fully correlated
+        let (mut s, mut total, mut prev) = (0.0f64, 0.0f64, snap(times[0]));
+        for &t in &times[1..] {
+            let x = snap(t);
+            let rho = if x == prev {
+                1.0
+            } else if tau > 0.0 {
+                (-2.0 * (x - prev) / tau).exp()
+            } else {
+                0.0
+            };
+            s = rho * (s + 1.0);
+            total += s;
+            prev = x;
+        }
+        (k * k / (k + 2.0 * total)).clamp(1.0, k)
+    };
+    let w = if share_a.is_finite() {
+        share_a.clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    let (ka, kb) = (count(reports_a), count(reports_b));
+    (1.0 / (w / ka + (1.0 - w) / kb)).clamp(1.0, k)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Instants between two reports of a sparse track carry the errors of those two reports.
+    #[test]
+    fn pair_instants_count_the_reports_behind_them() {
+        let times: Vec<f64> = (0..=100).map(f64::from).collect();
+        let sparse = [0.0, 100.0];
+        // tau = 0: k^2 / sum of squared group sizes, 51 instants nearer 0, 50 nearer 100
+        let k_a = 101.0 * 101.0 / (51.0 * 51.0 + 50.0 * 50.0);
+        let got = pair_effective_instants(&times, &sparse, &times, 1.0, 0.0);
+        assert!((got - k_a).abs() < 1e-12, "{got}");
+        // the dense track's own errors are independent at every instant
+        let got = pair_effective_instants(&times, &sparse, &times, 0.0, 0.0);
+        assert!((got - 101.0).abs() < 1e-12, "{got}");
+        // shares weigh the two counts harmonically
+        let got = pair_effective_instants(&times, &sparse, &times, 0.5, 0.0);
+        assert!(
+            (got - 1.0 / (0.5 / k_a + 0.5 / 101.0)).abs() < 1e-12,
+            "{got}"
+        );
+        // both tracks reporting at every instant: the single-track rule
+        let got = pair_effective_instants(&times, &times, &times, 0.3, 20.0);
+        assert!(
+            (got - effective_instants(&times, 20.0)).abs() < 1e-9,
+            "{got}"
+        );
+    }
 
     #[test]
     fn hand_computed_rules() {

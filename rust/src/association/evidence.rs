@@ -210,6 +210,8 @@ pub struct Picture {
     density: std::collections::BTreeMap<(i64, i64), f64>,
     /// Picture-wide density floor (objects per m^2).
     floor: f64,
+    /// Picture-wide density: the reference source's objects over the cells it occupies.
+    mean: f64,
     /// Coverage `P_s` per source.
     pub coverage: Vec<f64>,
     /// `ln kappa = -sum_s ln(1 - P_s)`.
@@ -242,8 +244,9 @@ impl Picture {
             .collect();
         // picture-wide: the reference source's objects over the cells it occupies
         let occupied = own.len().max(1) as f64;
-        let floor = (total / span / (occupied * cell_area) / model.completeness / 20.0)
-            .max(f64::MIN_POSITIVE);
+        let mean = (total / span / (occupied * cell_area) / model.completeness)
+            .max(20.0 * f64::MIN_POSITIVE);
+        let floor = mean / 20.0;
         let mut density = std::collections::BTreeMap::new();
         for &(row, col) in own.keys() {
             let mut sum = 0.0;
@@ -270,6 +273,7 @@ impl Picture {
             counts,
             density,
             floor,
+            mean,
             coverage,
             ln_kappa,
             reference,
@@ -295,6 +299,29 @@ impl Picture {
     }
 }
 
+impl Picture {
+    /// `ln(1 - F_s)`: the log of the odds that a track of source `s` where the object density is
+    /// `mu` is a real object's and not a false track, were it alone (see the module docs).
+    pub fn ln_not_false(&self, model: &Model, source: u32, mu: f64) -> f64 {
+        let f = model.false_fraction(source);
+        if f <= 0.0 {
+            return 0.0;
+        }
+        let r = f / (1.0 - f);
+        let p = self.coverage.get(source as usize).copied().unwrap_or(0.5);
+        // mu / mean * prod over the other sources of (1 - P)
+        let q = (mu / self.mean) * (-self.ln_kappa).exp() / (1.0 - p);
+        q.ln() - (r + q).ln()
+    }
+}
+
+/// A pair's `L` (see the module docs) and the terms `ln(1 - F)` of each of its tracks in it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairEvidence {
+    pub llr: f64,
+    pub own: (f64, f64),
+}
+
 /// `L` of a scored pair (see the module docs): `stat` from [`super::pair_stat`], `c` the
 /// covariance inflation of its sources, `q` the process noise (m^2/s) and `tau` the correlation
 /// time (s).
@@ -307,10 +334,14 @@ pub fn log_likelihood_ratio(
     model: &Model,
     q: f64,
     tau: f64,
-) -> f64 {
+) -> PairEvidence {
     let k = stat.instants as f64;
+    let none = PairEvidence {
+        llr: f64::NEG_INFINITY,
+        own: (0.0, 0.0),
+    };
     if k == 0.0 {
-        return f64::NEG_INFINITY;
+        return none;
     }
     let two_pi_ln = (2.0 * std::f64::consts::PI).ln();
     // mean l: -m/(2c) - ln(2 pi) - ln c - ln det S / 2
@@ -322,14 +353,16 @@ pub fn log_likelihood_ratio(
     // mean l - mean h = -m/(2c) + 1 + widen
     let fit = -0.5 * stat.sum_mg / (c * k) + 1.0 + widen;
     let mu = picture.density_at(stat.pos);
-    let prior = picture.ln_kappa
-        + (1.0 - model.false_fraction(sources.0)).ln()
-        + (1.0 - model.false_fraction(sources.1)).ln();
+    let own = (
+        picture.ln_not_false(model, sources.0, mu),
+        picture.ln_not_false(model, sources.1, mu),
+    );
+    let prior = picture.ln_kappa + own.0 + own.1;
     let l = (mean_l - mu.ln()) + (stat.k_eff - 1.0).max(0.0) * fit + prior;
-    if l.is_nan() {
-        f64::NEG_INFINITY
+    if l.is_nan() || own.0.is_nan() || own.1.is_nan() {
+        none
     } else {
-        l
+        PairEvidence { llr: l, own }
     }
 }
 

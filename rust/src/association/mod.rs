@@ -173,6 +173,8 @@ pub struct Association {
     /// decisions without scoring again ([`finish`]): the tracks, the summaries of the pairs
     /// and the picture counts.
     pub tracks: Vec<posterior::Track>,
+    /// When each track has a state ([`align::TimeCover`]).
+    pub time_cover: align::TimeCover,
     pub stats: Vec<PairStat>,
     pub counts: evidence::Counts,
 }
@@ -217,6 +219,8 @@ pub struct PairInstants {
     pub gauss: Vec<[f64; 4]>,
     /// Position of track `a` at the middle instant.
     pub pos: [f64; 2],
+    /// Track `a`'s share of the summed covariance traces `sum tr R_a / sum (tr R_a + tr R_b)`.
+    pub share_a: f64,
 }
 
 /// `[d^T S^-1 d, ln det S, tr S / det S, 1 / det S]` of one instant, `S = R_a + R_b` in the
@@ -250,7 +254,9 @@ pub fn pair_instants(r: &Reports, a: usize, b: usize, o: &Options) -> PairInstan
         m: Vec::with_capacity(inst.len()),
         gauss: Vec::with_capacity(inst.len()),
         pos: inst.get(inst.len() / 2).map_or([0.0; 2], |i| i.a.pos),
+        share_a: 0.5,
     };
+    let (mut tr_a, mut tr_b) = (0.0, 0.0);
     let plain_glr = matches!(o.score, Score::Glr(g) if !g.threshold);
     for (k, i) in inst.iter().enumerate() {
         let (d, cb) = local_offset(r.coords, &i.a, &i.b);
@@ -276,6 +282,11 @@ pub fn pair_instants(r: &Reports, a: usize, b: usize, o: &Options) -> PairInstan
         out.g.push(g);
         out.m.push(m.max(0.0));
         out.gauss.push(gaussian_of(i.a.cov, d, cb));
+        tr_a += i.a.cov[0] + i.a.cov[2];
+        tr_b += i.b.cov[0] + i.b.cov[2];
+    }
+    if tr_a + tr_b > 0.0 {
+        out.share_a = tr_a / (tr_a + tr_b);
     }
     out
 }
@@ -289,7 +300,7 @@ pub struct PairStat {
     pub instants: u32,
     /// Sum of the per-instant squared distances.
     pub sum_m: f64,
-    /// Effective number of instants (see [`combine::effective_instants`]).
+    /// Effective number of instants (see [`combine::pair_effective_instants`]).
     pub k_eff: f64,
     /// Sum of the Gaussian squared distances `d^T S^-1 d` (the evidence's; equal to `sum_m`
     /// for the plain GLR).
@@ -322,7 +333,13 @@ impl PairStat {
 /// Aligns, scores and combines tracks `a`, `b`.
 pub fn pair_stat(r: &Reports, a: usize, b: usize, o: &Options) -> PairStat {
     let p = pair_instants(r, a, b, o);
-    let k_eff = combine::effective_instants(&p.time, o.correlation_time);
+    let k_eff = combine::pair_effective_instants(
+        &p.time,
+        r.times(a),
+        r.times(b),
+        p.share_a,
+        o.correlation_time,
+    );
     let sum_m: f64 = p.m.iter().sum();
     let k = p.g.len();
     let score = if k == 0 {
@@ -403,13 +420,14 @@ pub fn associate(
     let picture = Picture::from_counts(counts.clone(), &o.model);
     let mut res = finish(
         &track_summaries(r),
+        &align::TimeCover::of(r, &o.align),
         &picture,
         &o,
-        pairs.len(),
         &kept,
         decisions,
         interrupt,
     )?;
+    res.candidates = pairs.len();
     res.counts = counts;
     Ok(res)
 }
@@ -430,6 +448,37 @@ pub fn track_summaries(r: &Reports) -> Vec<posterior::Track> {
         .collect()
 }
 
+/// The review order `order` (pairs by decreasing value) rearranged in rounds: each round takes,
+/// in order, the pairs none of whose tracks an earlier pair of the round holds, and defers the
+/// others to the next round. An answer about a track moves the probabilities of every other pair
+/// of that track (confirming one of its pairs settles its rivals; the pairs of one track with
+/// the AIS and the radar track of one ship ask the same question), so an operator working down
+/// the list without re-association between answers spends no answer on a question the previous
+/// one may have settled; with re-association after every answer only the first pair matters,
+/// and it is the most valuable one either way.
+fn one_question_per_track(order: Vec<usize>, pairs: &[(u32, u32)], n_tracks: usize) -> Vec<usize> {
+    let mut out = Vec::with_capacity(order.len());
+    let mut round = vec![u32::MAX; n_tracks];
+    let mut pending = order;
+    let mut r = 0u32;
+    while !pending.is_empty() {
+        let mut later = Vec::new();
+        for k in pending {
+            let (a, b) = (pairs[k].0 as usize, pairs[k].1 as usize);
+            if round[a] == r || round[b] == r {
+                later.push(k);
+            } else {
+                round[a] = r;
+                round[b] = r;
+                out.push(k);
+            }
+        }
+        pending = later;
+        r += 1;
+    }
+    out
+}
+
 /// The steps after scoring, shared by [`associate`] and the distributed path: covariance
 /// inflation, scores, pair evidence, the posterior per component, triage, review order and
 /// objects. `tracks` describes every track ([`track_summaries`]), `picture` the picture's
@@ -437,17 +486,14 @@ pub fn track_summaries(r: &Reports) -> Vec<posterior::Track> {
 /// `(a, b)`; `o` must be validated.
 pub fn finish(
     tracks: &[posterior::Track],
+    cover: &align::TimeCover,
     picture: &Picture,
     o: &Options,
-    candidates: usize,
     kept: &[((u32, u32), PairStat)],
     decisions: &[Decision],
     interrupt: Interrupt<'_>,
 ) -> Result<Association> {
-    let mut res = Association {
-        candidates,
-        ..Association::default()
-    };
+    let mut res = Association::default();
     let pairs: Vec<(u32, u32)> = kept.iter().map(|x| x.0).collect();
     let stats: Vec<(f64, f64, f64)> = kept
         .iter()
@@ -506,7 +552,7 @@ pub fn finish(
         return Err(Error::Interrupted);
     }
     res.coverage = picture.coverage.clone();
-    res.llr = kept
+    let evidence: Vec<evidence::PairEvidence> = kept
         .par_iter()
         .zip(scale.par_iter())
         .map(|((p, st), &c)| {
@@ -521,10 +567,12 @@ pub fn finish(
             )
         })
         .collect();
+    res.llr = evidence.iter().map(|e| e.llr).collect();
     let post = posterior::posterior(
         tracks,
+        cover,
         &pairs,
-        &res.llr,
+        &evidence,
         decisions,
         &o.inference,
         (o.p_reject, o.p_match),
@@ -558,6 +606,7 @@ pub fn finish(
             )
             .then(pairs[i].cmp(&pairs[j]))
     });
+    let order = one_question_per_track(order, &pairs, tracks.len());
     res.review_rank = vec![0; pairs.len()];
     for (rank, &k) in order.iter().enumerate() {
         res.review_rank[k] = rank as u32 + 1;
@@ -571,6 +620,20 @@ pub fn finish(
     res.components = post.components;
     res.object = object;
     res.tracks = tracks.to_vec();
+    res.time_cover = cover.clone();
     res.stats = kept.iter().map(|x| x.1).collect();
     Ok(res)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn review_rounds_ask_one_question_per_track() {
+        let pairs = [(0, 1), (0, 2), (3, 4), (1, 5), (2, 6)];
+        let got = one_question_per_track(vec![0, 1, 2, 3, 4], &pairs, 7);
+        // round 0: (0 1), (3 4), (2 6); round 1: (0 2), (1 5)
+        assert_eq!(got, vec![0, 2, 4, 1, 3]);
+    }
 }

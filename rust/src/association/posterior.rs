@@ -3,12 +3,15 @@
 //!
 //! The hypotheses of a connected component of the candidate graph are the feasible partitions of
 //! its tracks into objects: no object holds two tracks of one source whose time spans overlap,
-//! nor two tracks an operator declared different, nor two tracks that exist at a common time
-//! without being a candidate pair (their AOUs never came close while both existed), and every
+//! nor two tracks an operator declared different, nor two tracks that have a common instant (a
+//! report of one at which the other has a state, [`TimeCover::meet`]) without being a candidate
+//! pair (their AOUs never came close while both existed), and every
 //! object is connected by candidate pairs (or by operator decisions). The weight of a partition is the product of the weights of
 //! its objects; a single track weighs 1, and an object of several tracks weighs
 //! `exp(sum of L_e)` over a spanning tree of its tracks, where `L_e` is the log-likelihood ratio
-//! of a pair ([`crate::association::evidence`]). The tree joins every track to the most precise
+//! of a pair ([`crate::association::evidence`]) less the term of the track the pair joins to
+//! the tree (the log-odds that a track is not a false one is a property of the track: it is
+//! counted once per object, with the root's first pair). The tree joins every track to the most precise
 //! track of the object it has a candidate pair with (tracks taken from the most precise to the
 //! least): the product of the Gaussian densities of one instant factorises exactly that way when
 //! the reference is much more precise than the joined track, as it is for a radar, aircraft or
@@ -40,6 +43,8 @@ fn unit(rng: &mut impl Rng) -> f64 {
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
+use super::align::TimeCover;
+use super::evidence::PairEvidence;
 use crate::error::{Error, Result};
 
 /// A pair log-likelihood ratio below this is treated as impossible (`p_same = 0`): the pair is
@@ -203,14 +208,19 @@ struct Component {
     /// Global track of each local track.
     tracks: Vec<u32>,
     info: Vec<Track>,
-    /// Sorted adjacency `(neighbour, L)` per local track (candidate pairs and decided pairs).
-    adj: Vec<Vec<(u32, f64)>>,
+    /// Sorted adjacency `(neighbour, L, k)` per local track (candidate pairs and decided
+    /// pairs): `L` the pair's log-likelihood ratio, `k` the neighbour's own term in it (see
+    /// [`cell_weight`](Component::cell_weight)).
+    adj: Vec<Vec<(u32, f64, f64)>>,
     /// Local tracks of each block (tracks declared the same).
     blocks: Vec<Vec<u32>>,
     /// Block of each local track.
     block_of: Vec<u32>,
     /// Pairs declared different (local tracks, sorted).
     different: Vec<(u32, u32)>,
+    /// Pairs with a common instant and no candidate pair (local tracks, sorted): their AOUs
+    /// were far apart while both existed, so they are two objects.
+    apart: Vec<(u32, u32)>,
     /// The pairs of this component: (global pair index, local a, local b).
     pairs: Vec<(usize, u32, u32)>,
     /// Precision order of the local tracks.
@@ -219,8 +229,15 @@ struct Component {
 
 impl Component {
     fn edge(&self, x: u32, y: u32) -> Option<f64> {
+        self.edge_parts(x, y).map(|e| e.0)
+    }
+
+    /// `(L, k_y)` of the pair `x`, `y`.
+    fn edge_parts(&self, x: u32, y: u32) -> Option<(f64, f64)> {
         let row = &self.adj[x as usize];
-        row.binary_search_by_key(&y, |e| e.0).ok().map(|k| row[k].1)
+        row.binary_search_by_key(&y, |e| e.0)
+            .ok()
+            .map(|k| (row[k].1, row[k].2))
     }
 
     fn different(&self, x: u32, y: u32) -> bool {
@@ -228,18 +245,20 @@ impl Component {
         self.different.binary_search(&key).is_ok()
     }
 
+    fn apart(&self, x: u32, y: u32) -> bool {
+        let key = (x.min(y), x.max(y));
+        self.apart.binary_search(&key).is_ok()
+    }
+
     /// Whether the tracks `xs` and `ys` may share an object: no two of one source at
-    /// overlapping times, none declared different, and every two that exist at a common time
+    /// overlapping times, none declared different, and every two that have a common instant
     /// a candidate pair (or declared the same): tracks whose AOUs never came close while both
     /// existed are two objects.
     fn compatible(&self, xs: &[u32], ys: &[u32]) -> bool {
         xs.iter().all(|&x| {
             ys.iter().all(|&y| {
                 let (tx, ty) = (&self.info[x as usize], &self.info[y as usize]);
-                let concurrent = tx.start < ty.end && ty.start < tx.end;
-                !tx.conflicts(ty)
-                    && !self.different(x, y)
-                    && (!concurrent || self.edge(x, y).is_some())
+                !tx.conflicts(ty) && !self.different(x, y) && !self.apart(x, y)
             })
         })
     }
@@ -261,10 +280,14 @@ impl Component {
             let mut k = attached;
             while k < scratch.len() {
                 let x = scratch[k];
-                // the most precise attached member with a pair to x
-                let best = scratch[..attached].iter().find_map(|&y| self.edge(x, y));
-                if let Some(l) = best {
-                    total += l;
+                // the most precise attached member with a pair to x; a pair's ratio holds a
+                // term of each of its tracks (the odds that the track is not a false one,
+                // were it alone), counted once per object: the root's with its first pair
+                let best = scratch[..attached]
+                    .iter()
+                    .find_map(|&y| self.edge_parts(x, y));
+                if let Some((l, k_y)) = best {
+                    total += if attached == 1 { l } else { l - k_y };
                     scratch[attached..=k].rotate_right(1);
                     attached += 1;
                     progress = true;
@@ -291,8 +314,10 @@ fn log_sum_exp(xs: impl Iterator<Item = f64> + Clone) -> f64 {
 /// (pairs below [`L_CUT`] left out) and `decisions`, checking the decisions.
 fn components(
     tracks: &[Track],
+    cover: &TimeCover,
     pairs: &[(u32, u32)],
     llr: &[f64],
+    own: &[(f64, f64)],
     decisions: &[Decision],
 ) -> Result<Vec<Component>> {
     let n = tracks.len();
@@ -372,6 +397,7 @@ fn components(
                 blocks: Vec::new(),
                 block_of: Vec::new(),
                 different: Vec::new(),
+                apart: Vec::new(),
                 pairs: Vec::new(),
                 rank: Vec::new(),
             });
@@ -388,8 +414,8 @@ fn components(
             let c = comp_of(a, &mut dsu);
             let (la, lb) = (local[a as usize], local[b as usize]);
             let comp = &mut comps[c];
-            comp.adj[la as usize].push((lb, llr[k]));
-            comp.adj[lb as usize].push((la, llr[k]));
+            comp.adj[la as usize].push((lb, llr[k], own[k].1));
+            comp.adj[lb as usize].push((la, llr[k], own[k].0));
             comp.pairs.push((k, la, lb));
         }
     }
@@ -400,8 +426,8 @@ fn components(
         if d.same {
             // a decided pair connects its object even without a candidate pair
             if !comp.adj[la as usize].iter().any(|e| e.0 == lb) {
-                comp.adj[la as usize].push((lb, 0.0));
-                comp.adj[lb as usize].push((la, 0.0));
+                comp.adj[la as usize].push((lb, 0.0, 0.0));
+                comp.adj[lb as usize].push((la, 0.0, 0.0));
             }
         } else {
             comp.different.push((la.min(lb), la.max(lb)));
@@ -414,6 +440,33 @@ fn components(
         }
         comp.different.sort_unstable();
         comp.different.dedup();
+        // tracks with a common instant but no pair, swept in order of their first report
+        let mut by_start: Vec<u32> = (0..comp.tracks.len() as u32).collect();
+        by_start.sort_by(|&x, &y| {
+            comp.info[x as usize]
+                .start
+                .total_cmp(&comp.info[y as usize].start)
+        });
+        for (i, &x) in by_start.iter().enumerate() {
+            let end_x = comp.info[x as usize].end + cover.horizon;
+            for &y in &by_start[i + 1..] {
+                if comp.info[y as usize].start - cover.horizon > end_x {
+                    break;
+                }
+                // (two tracks of one source are never compared: the time rule of
+                // `Track::conflicts` decides them)
+                if comp.info[x as usize].source != comp.info[y as usize].source
+                    && comp.edge(x, y).is_none()
+                    && cover.meet(
+                        comp.tracks[x as usize] as usize,
+                        comp.tracks[y as usize] as usize,
+                    )
+                {
+                    comp.apart.push((x.min(y), x.max(y)));
+                }
+            }
+        }
+        comp.apart.sort_unstable();
         let m = comp.tracks.len();
         let mut order: Vec<u32> = (0..m as u32).collect();
         order.sort_by(|&x, &y| {
@@ -1005,28 +1058,39 @@ fn review_gain(
 }
 
 /// The posterior of every pair and track (see the module docs). `pairs[k]` has log-likelihood
-/// ratio `llr[k]`; `p_reject` and `p_match` bound the band in which review values are computed.
+/// ratio `evidence[k].llr`, of which `evidence[k].own` are the terms of its two tracks alone
+/// (the log-odds that each is not a false track, counted once per object); `p_reject` and `p_match` bound the band
+/// in which review values are computed.
 pub fn posterior(
     tracks: &[Track],
+    cover: &TimeCover,
     pairs: &[(u32, u32)],
-    llr: &[f64],
+    evidence: &[PairEvidence],
     decisions: &[Decision],
     inf: &Inference,
     band: (f64, f64),
 ) -> Result<Posterior> {
-    if llr.len() != pairs.len() {
+    if evidence.len() != pairs.len() {
         return Err(Error::LengthMismatch {
             left: pairs.len(),
-            right: llr.len(),
+            right: evidence.len(),
         });
     }
+    let llr: Vec<f64> = evidence.iter().map(|e| e.llr).collect();
+    let own: Vec<(f64, f64)> = evidence.iter().map(|e| e.own).collect();
     if let Some(k) = llr.iter().position(|x| x.is_nan()) {
         return Err(Error::Invalid(format!(
             "pair {k}: log-likelihood ratio is NaN"
         )));
     }
     let inf = inf.validated()?;
-    let comps = components(tracks, pairs, llr, decisions)?;
+    if cover.len() != tracks.len() {
+        return Err(Error::LengthMismatch {
+            left: tracks.len(),
+            right: cover.len(),
+        });
+    }
+    let comps = components(tracks, cover, pairs, &llr, &own, decisions)?;
     type Review = (Vec<f64>, Vec<(u32, u32)>);
     let results: Vec<(Marginals, Review)> = comps
         .par_iter()
@@ -1166,14 +1230,29 @@ mod tests {
         }
     }
 
+    /// Pair evidence without track terms.
+    fn own(llr: &[f64]) -> Vec<PairEvidence> {
+        llr.iter()
+            .map(|&llr| PairEvidence {
+                llr,
+                own: (0.0, 0.0),
+            })
+            .collect()
+    }
+
+    fn whole(tracks: &[Track]) -> TimeCover {
+        TimeCover::whole(tracks.iter().map(|t| (t.start, t.end)), 0.0)
+    }
+
     #[test]
     fn two_tracks_are_a_logistic_of_their_ratio() {
         let tracks = [tr(0, 0.0, 10.0, 1.0), tr(1, 0.0, 10.0, 2.0)];
         for l in [-5.0, 0.0, 2.0, 7.0] {
             let p = posterior(
                 &tracks,
+                &whole(&tracks),
                 &[(0, 1)],
-                &[l],
+                &own(&[l]),
                 &[],
                 &Inference::default(),
                 (0.01, 0.99),
@@ -1216,8 +1295,9 @@ mod tests {
             let (tracks, pairs, llr) = random_component(seed, 7);
             let exact = posterior(
                 &tracks,
+                &whole(&tracks),
                 &pairs,
-                &llr,
+                &own(&llr),
                 &[],
                 &Inference::default(),
                 (0.01, 0.99),
@@ -1230,7 +1310,16 @@ mod tests {
                 sweeps: 2500,
                 seed,
             };
-            let sampled = posterior(&tracks, &pairs, &llr, &[], &inf, (0.01, 0.99)).unwrap();
+            let sampled = posterior(
+                &tracks,
+                &whole(&tracks),
+                &pairs,
+                &own(&llr),
+                &[],
+                &inf,
+                (0.01, 0.99),
+            )
+            .unwrap();
             for k in 0..pairs.len() {
                 let err = (exact.p_same[k] - sampled.p_same[k]).abs();
                 worst = worst.max(err);
@@ -1251,7 +1340,16 @@ mod tests {
     }
 
     fn exact(tracks: &[Track], pairs: &[(u32, u32)], llr: &[f64], dec: &[Decision]) -> Posterior {
-        posterior(tracks, pairs, llr, dec, &Inference::default(), (0.01, 0.99)).unwrap()
+        posterior(
+            tracks,
+            &whole(tracks),
+            pairs,
+            &own(llr),
+            dec,
+            &Inference::default(),
+            (0.01, 0.99),
+        )
+        .unwrap()
     }
 
     #[test]
@@ -1275,6 +1373,86 @@ mod tests {
         assert!((p.p_alone[0] - (w[0] + w[3]) / z).abs() < 1e-12);
         assert!((p.p_alone[2] - (w[0] + w[1]) / z).abs() < 1e-12);
         assert_eq!(p.components[0].partitions, 5);
+    }
+
+    /// A DF track of two fixes a minute apart, an AIS track over both and an aircraft track
+    /// between the fixes: the DF and aircraft tracks never have a common instant, so the three
+    /// may be one object (the time spans overlap, which is not evidence of two objects).
+    #[test]
+    fn tracks_without_a_common_instant_may_share_an_object() {
+        let tracks = [
+            tr(0, 0.0, 100.0, 1.0),
+            tr(1, 0.0, 60.0, 50.0),
+            tr(2, 20.0, 40.0, 5.0),
+        ];
+        let cover = TimeCover::from_parts(
+            vec![0, 1, 3, 4],
+            vec![[0.0, 100.0], [0.0, 0.0], [60.0, 60.0], [20.0, 40.0]],
+            0.0,
+        )
+        .unwrap();
+        let (pairs, llr) = ([(0, 1), (0, 2)], [2.0_f64, 5.0]);
+        let run = |cover: &TimeCover| {
+            posterior(
+                &tracks,
+                cover,
+                &pairs,
+                &own(&llr),
+                &[],
+                &Inference::default(),
+                (0.01, 0.99),
+            )
+            .unwrap()
+        };
+        let p = run(&cover);
+        // {0}{1}{2}, {0 1}{2}, {0 2}{1}, {0 1 2} (the tree joins 1 and 2 to 0)
+        let z = 1.0 + 2f64.exp() + 5f64.exp() + 7f64.exp();
+        assert!((p.p_same[0] - (2f64.exp() + 7f64.exp()) / z).abs() < 1e-12);
+        assert!((p.p_same[1] - (5f64.exp() + 7f64.exp()) / z).abs() < 1e-12);
+        // with the time spans as the cover, 1 and 2 meet without a pair: never one object
+        let p = run(&whole(&tracks));
+        let z = 1.0 + 2f64.exp() + 5f64.exp();
+        assert!((p.p_same[0] - 2f64.exp() / z).abs() < 1e-12);
+    }
+
+    /// The term of a track alone (`own`) is counted once per object, however many pairs join
+    /// it: a vague track holding several others is not charged its false-track odds per pair.
+    #[test]
+    fn a_track_term_is_counted_once_per_object() {
+        // (1 and 2 at different times: they need no pair of their own)
+        let tracks = [
+            tr(0, 0.0, 10.0, 1.0),
+            tr(1, 0.0, 4.0, 2.0),
+            tr(2, 6.0, 10.0, 3.0),
+        ];
+        let pairs = [(0, 1), (0, 2)];
+        // L_01 = core + (-0.5) + (-1), L_02 = core + (-0.5) + (-2)
+        let own = [
+            PairEvidence {
+                llr: 3.0,
+                own: (-0.5, -1.0),
+            },
+            PairEvidence {
+                llr: 4.0,
+                own: (-0.5, -2.0),
+            },
+        ];
+        let p = posterior(
+            &tracks,
+            &whole(&tracks),
+            &pairs,
+            &own,
+            &[],
+            &Inference::default(),
+            (0.01, 0.99),
+        )
+        .unwrap();
+        // {0 1 2}: 3 + (4 - (-0.5)) = 7.5, track 0's term once
+        let w = [1.0, 3f64.exp(), 4f64.exp(), 7.5f64.exp()];
+        let z: f64 = w.iter().sum();
+        assert!((p.p_same[0] - (w[1] + w[3]) / z).abs() < 1e-12);
+        assert!((p.p_same[1] - (w[2] + w[3]) / z).abs() < 1e-12);
+        assert!((p.p_alone[0] - 1.0 / z).abs() < 1e-12);
     }
 
     #[test]
@@ -1382,8 +1560,9 @@ mod tests {
         let d = |a, b, same, row| Decision { a, b, same, row };
         let err = posterior(
             &tracks,
+            &whole(&tracks),
             &pairs,
-            &llr,
+            &own(&llr),
             &[d(0, 1, true, 4), d(1, 2, true, 7), d(0, 2, false, 9)],
             &Inference::default(),
             (0.01, 0.99),
@@ -1394,8 +1573,9 @@ mod tests {
         // two AIS tracks at overlapping times declared one object
         let err = posterior(
             &tracks,
+            &whole(&tracks),
             &pairs,
-            &llr,
+            &own(&llr),
             &[d(1, 0, true, 2), d(1, 3, true, 3)],
             &Inference::default(),
             (0.01, 0.99),

@@ -190,6 +190,10 @@ pub(super) fn result_dict<'py>(
     d.set_item("track_start", col(|t| t.start).into_pyarray(py))?;
     d.set_item("track_end", col(|t| t.end).into_pyarray(py))?;
     d.set_item("track_spread", col(|t| t.spread).into_pyarray(py))?;
+    d.set_item(
+        "time_cover",
+        super::fusion::time_cover_dict(py, &res.time_cover)?,
+    )?;
     d.set_item("stats", super::fusion::stats_dict(py, &res.stats)?)?;
     d.set_item("counts", super::fusion::counts_dict(py, &res.counts)?)?;
     Ok(d)

@@ -9,6 +9,7 @@ use pyo3::types::PyDict;
 
 use super::association::AssociationArgs;
 use super::{check_signals, detached, slice};
+use crate::association::align::TimeCover;
 use crate::association::evidence::Counts;
 use crate::association::{self, posterior, PairStat, Picture};
 use crate::error::Error;
@@ -117,6 +118,36 @@ fn association_picture_counts<'py>(
     counts_dict(py, &c)
 }
 
+/// When each track of a partition holding whole tracks has a state (`align::TimeCover`): a dict
+/// of `cover_offsets` (one more than tracks), `cover_start` and `cover_end` (one per chain).
+#[pyfunction]
+#[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic, options))]
+#[allow(clippy::too_many_arguments)]
+fn association_time_cover<'py>(
+    py: Python<'py>,
+    track: PyReadonlyArray1<'py, u32>,
+    source: PyReadonlyArray1<'py, u32>,
+    time: PyReadonlyArray1<'py, f64>,
+    aou: PyReadonlyArray2<'py, f64>,
+    n_tracks: usize,
+    geographic: bool,
+    options: AssociationArgs,
+) -> PyResult<Bound<'py, PyDict>> {
+    let r = super::association::reports(&track, &source, &time, &aou, n_tracks, geographic)?;
+    let o = options.options()?;
+    let c = py.detach(|| TimeCover::of(&r, &o.align));
+    time_cover_dict(py, &c)
+}
+
+pub(super) fn time_cover_dict<'py>(py: Python<'py>, c: &TimeCover) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("cover_offsets", c.offsets.clone().into_pyarray(py))?;
+    let (s, e): (Vec<f64>, Vec<f64>) = c.spans.iter().map(|x| (x[0], x[1])).unzip();
+    d.set_item("cover_start", s.into_pyarray(py))?;
+    d.set_item("cover_end", e.into_pyarray(py))?;
+    Ok(d)
+}
+
 pub(super) fn counts_dict<'py>(py: Python<'py>, c: &Counts) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("micros", c.micros.clone().into_pyarray(py))?;
@@ -134,19 +165,23 @@ pub(super) fn counts_dict<'py>(py: Python<'py>, c: &Counts) -> PyResult<Bound<'p
 
 /// The global step of `associate` on gathered pairs `(a, b)` (sorted, `a < b`, each with at
 /// least one instant) with their summaries `stats` (as `association_pair_stats` returns them),
-/// the tracks' `source`, `start`, `end`, `spread`, the picture `counts` of parts that together
+/// the tracks' `source` and `spread`, their coverage (`cover_offsets`, `cover_start`,
+/// `cover_end`: the chains of every track, as `association_time_cover` returns them), the picture
+/// `counts` of parts that together
 /// hold every track once (a list of what `association_picture_counts` returns; merged here) and
 /// operator decisions. Returns the same dict as `associate`.
 #[pyfunction]
-#[pyo3(signature = (source, start, end, spread, a, b, stats, counts, decision_a, decision_b,
+#[pyo3(signature = (source, spread, cover_offsets, cover_start, cover_end, a, b, stats, counts,
+    decision_a, decision_b,
     decision_same, decision_row, *, geographic, options, candidates))]
 #[allow(clippy::too_many_arguments)]
 fn association_finish<'py>(
     py: Python<'py>,
     source: PyReadonlyArray1<'py, u32>,
-    start: PyReadonlyArray1<'py, f64>,
-    end: PyReadonlyArray1<'py, f64>,
     spread: PyReadonlyArray1<'py, f64>,
+    cover_offsets: PyReadonlyArray1<'py, u32>,
+    cover_start: PyReadonlyArray1<'py, f64>,
+    cover_end: PyReadonlyArray1<'py, f64>,
     a: PyReadonlyArray1<'py, u32>,
     b: PyReadonlyArray1<'py, u32>,
     stats: Bound<'py, PyDict>,
@@ -162,24 +197,34 @@ fn association_finish<'py>(
     let o = options.options()?;
     let dec =
         super::association::decisions(&decision_a, &decision_b, &decision_same, &decision_row)?;
-    let (src, t0, t1, sp) = (
-        slice("source", &source)?,
-        slice("start", &start)?,
-        slice("end", &end)?,
-        slice("spread", &spread)?,
+    let (src, sp) = (slice("source", &source)?, slice("spread", &spread)?);
+    let (c0, c1) = (
+        slice("cover_start", &cover_start)?,
+        slice("cover_end", &cover_end)?,
     );
-    if t0.len() != src.len() || t1.len() != src.len() || sp.len() != src.len() {
+    let offsets = slice("cover_offsets", &cover_offsets)?;
+    if sp.len() != src.len() || offsets.len() != src.len() + 1 || c0.len() != c1.len() {
         return Err(Error::Invalid(
-            "source, start, end and spread must have the same length".into(),
+            "source and spread must have one row per track, cover_offsets one more, and \
+             cover_start and cover_end the same length"
+                .into(),
         )
         .into());
     }
+    let cover = TimeCover::from_parts(
+        offsets.to_vec(),
+        c0.iter().zip(c1).map(|(&x, &y)| [x, y]).collect(),
+        o.align.horizon,
+    )?;
     let tracks: Vec<posterior::Track> = (0..src.len())
-        .map(|t| posterior::Track {
-            source: src[t],
-            start: t0[t],
-            end: t1[t],
-            spread: sp[t],
+        .map(|t| {
+            let (start, end) = cover.span(t);
+            posterior::Track {
+                source: src[t],
+                start,
+                end,
+                spread: sp[t],
+            }
         })
         .collect();
     let (sa, sb) = (slice("a", &a)?, slice("b", &b)?);
@@ -245,13 +290,14 @@ fn association_finish<'py>(
         let picture = Picture::from_counts(counts.clone(), &o.model);
         let mut res = association::finish(
             &tracks,
+            &cover,
             &picture,
             &o,
-            candidates,
             &kept,
             &dec,
             &mut check_signals,
         )?;
+        res.candidates = candidates;
         res.counts = counts;
         Ok(res)
     })?;
@@ -292,5 +338,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(association_pair_stats, m)?)?;
     m.add_function(wrap_pyfunction!(association_picture_counts, m)?)?;
     m.add_function(wrap_pyfunction!(association_finish, m)?)?;
+    m.add_function(wrap_pyfunction!(association_time_cover, m)?)?;
     Ok(())
 }
