@@ -7,8 +7,9 @@
 //!   correct association (PCA) is the fraction of correct frames. When noise maxima outrank the
 //!   targets, filter `i` takes the noise maximum nearest to its own estimate, and a point near
 //!   filter `i` is more often nearest to target `i` than to the others: in the paper's geometry
-//!   this floors the PCA at about 0.54 (measured at 0-2 dB, `docs/pf-study.md`), not at the
-//!   1/4 of a label drawn at random among four targets.
+//!   this floors the PCA at about 0.55 (0.550 [0.542, 0.558] at 0 dB over 16 runs, the study's
+//!   paper-faithful configuration, `docs/pf-study.md`), not at the 1/4 of a label drawn at
+//!   random among four targets nor at the paper's 27 %.
 //! - Hit: stricter, the peak is also within `HIT_RADIUS` (3 pixels) of the filter's own
 //!   target, i.e. it is that target's image rather than a noise maximum; its floor is 0.
 //! - 2-sigma coverage: the fraction of (frame, axis) pairs with `|error| <= 2 sqrt(P)`; about
