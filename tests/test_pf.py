@@ -264,7 +264,8 @@ def test_cli_configurations(tmp_path, capsys):
     base = ["pf-study", "--runs", "2", "--particles", "100", "--snrs", "15", "--no-figures"]
     # One configuration; an explicit setting that departs from it labels the rows "custom".
     assert main(base + ["--out", str(tmp_path / "a"), "--config", "recommended"]) == 0
-    assert main(base + ["--out", str(tmp_path / "b"), "--config", "paper", "--smoothing", "1"]) == 0
+    custom = ["--config", "paper", "--association", "one-to-one"]
+    assert main(base + ["--out", str(tmp_path / "b")] + custom) == 0
     for sub, label in (("a", "recommended"), ("b", "custom")):
         with open(tmp_path / sub / "summary.csv", newline="") as fh:
             assert {r["config"] for r in csv.DictReader(fh)} == {label}
