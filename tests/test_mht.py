@@ -383,6 +383,41 @@ def test_empty_scans_matter_on_user_data() -> None:
     assert len(with_empty["top"]) > len(without["top"])
 
 
+def test_process_noise_default_is_2_g_in_every_entry_point() -> None:
+    """The trackers' process noise is 2 g (experiment E1 of docs/mht-study.md) wherever a
+    default applies: the Python signatures, the CLI and the Rust bindings called without it."""
+    import argparse
+    import inspect
+
+    from geofeas import _core
+    from geofeas._cli_mht import add_parser
+
+    two_g, four_g = 2.0 * 9.80665, 4.0 * 9.80665
+    for f in (track, simulate_run, study):
+        assert inspect.signature(f).parameters["accel_sigma"].default == two_g, f.__name__
+    parser = argparse.ArgumentParser()
+    add_parser(parser.add_subparsers())
+    assert parser.parse_args(["mht-study", "--out", "x"]).accel_sigma == two_g
+
+    # The bindings' own defaults: the same run as with 2 g given, another with 4 g.
+    def run(**kw: float) -> np.ndarray:
+        r = _core.mht_simulate_run(targets=2, sensors=3, false_alarms=2, seed=1, **kw)
+        return np.asarray(dict(r)["tracks"])
+
+    assert np.array_equal(run(), run(accel_sigma=two_g))
+    assert not np.array_equal(run(), run(accel_sigma=four_g))
+    scans = _scans_of(simulate_run(targets=2, sensors=3, false_alarms=2, seed=1))
+
+    def fed(**kw: float) -> np.ndarray:
+        mht = _core.MhtTracker(paper_sensors(3), **kw)
+        for t, sensor, rows in scans:
+            mht.process_scan(t, sensor, np.ascontiguousarray(rows, dtype=np.float64))
+        return np.asarray(mht.estimates(0))
+
+    assert np.array_equal(fed(), fed(accel_sigma=two_g))
+    assert not np.array_equal(fed(), fed(accel_sigma=four_g))
+
+
 @pytest.mark.parametrize("targets", [1, 2])
 def test_without_false_alarms_the_true_tracks_are_found(targets: int) -> None:
     r = simulate_run(targets=targets, sensors=3, false_alarms=0, seed=2)

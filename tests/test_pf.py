@@ -16,6 +16,7 @@ import geofeas
 from geofeas import GeofeasError
 from geofeas.cli import main
 from geofeas.tracking import (
+    PAPER_IC,
     pf_ellipses,
     pf_log_weights,
     pf_peaks,
@@ -216,37 +217,64 @@ def test_resampling_schemes_all_track():
 
 def test_cli_writes_the_contract_files(tmp_path):
     out = tmp_path / "pf"
-    assert (
-        main(["pf-study", "--out", str(out), "--runs", "2", "--particles", "200", "--no-figures"])
-        == 0
-    )
+    snrs = (2.0, 6.0, 15.0)
+    args = ["pf-study", "--out", str(out), "--runs", "2", "--particles", "200", "--no-figures"]
+    assert main(args + ["--snrs", "2,6,15"]) == 0
+    configs = ("paper", "recommended")
     with open(out / "pca_vs_snr.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    assert list(rows[0]) == ["method", "snr_db", "pca", "pca_lo", "pca_hi"]
+    assert list(rows[0]) == ["config", "method", "snr_db", "pca", "pca_lo", "pca_hi"]
     # Every bootstrap interval brackets its estimate.
     assert all(
         float(r["pca_lo"]) <= float(r["pca"]) + 1e-12 <= float(r["pca_hi"]) + 2e-12 for r in rows
     )
-    assert {(r["method"], float(r["snr_db"])) for r in rows} == {
-        (m, float(s)) for m in ("1", "2") for s in range(21)
-    }
+    assert sorted((r["config"], r["method"], float(r["snr_db"])) for r in rows) == sorted(
+        (c, m, s) for c in configs for m in ("1", "2") for s in snrs
+    )
     assert all(0.0 <= float(r["pca"]) <= 1.0 for r in rows)
+    # The recommended configuration's matched-filter peaks find the targets at 6 dB, the raw
+    # intensity maxima do not (Method 2 here, the same frames).
+    pca = {(r["config"], r["method"], float(r["snr_db"])): float(r["pca"]) for r in rows}
+    assert pca["recommended", "2", 6.0] > pca["paper", "2", 6.0] + 0.2
     with open(out / "errors.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    assert list(rows[0]) == ["method", "snr_db", "filter", "rmse_px"]
-    assert {(r["method"], float(r["snr_db"]), r["filter"]) for r in rows} == {
-        (m, s, f) for m in ("1", "2") for s in (2.0, 6.0, 15.0) for f in ("1", "2", "3", "4")
+    assert list(rows[0]) == ["config", "method", "snr_db", "filter", "rmse_px"]
+    assert {(r["config"], r["method"], float(r["snr_db"]), r["filter"]) for r in rows} == {
+        (c, m, s, f) for c in configs for m in ("1", "2") for s in snrs for f in "1234"
     }
-    assert (out / "comparison.md").read_text().count("|") > 50
+    text = (out / "comparison.md").read_text()
+    assert text.count("|") > 50
+    assert "## Configuration `paper`" in text and "## Configuration `recommended`" in text
     with open(out / "summary.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    assert {"runs", "held", "held_lo", "held_hi", "rmse_px_lo", "gospa", "id_switches"} <= set(
-        rows[0]
-    )
+    assert list(rows[0])[:6] == ["config", "method", "snr_db", "xmax", "vmax", "runs"]
+    assert {"held", "held_lo", "held_hi", "rmse_px_lo", "gospa", "id_switches"} <= set(rows[0])
     # GOSPA with four targets and four filters (c = 5, p = 2): between 0 and sqrt(4 c^2) = 10.
     assert all(0.0 <= float(r["gospa"]) <= 10.0 + 1e-9 for r in rows)
     assert {r["runs"] for r in rows} == {"2"}
+    with open(out / "ic_sensitivity.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [(r["config"], float(r["xmax"]), float(r["vmax"])) for r in rows] == [
+        (c, x, v) for c in configs for x, v in PAPER_IC
+    ]
     assert not [p for p in out.iterdir() if p.name.startswith(".")]
+
+
+def test_cli_configurations(tmp_path, capsys):
+    base = ["pf-study", "--runs", "2", "--particles", "100", "--snrs", "15", "--no-figures"]
+    # One configuration; an explicit setting that departs from it labels the rows "custom".
+    assert main(base + ["--out", str(tmp_path / "a"), "--config", "recommended"]) == 0
+    custom = ["--config", "paper", "--association", "one-to-one"]
+    assert main(base + ["--out", str(tmp_path / "b")] + custom) == 0
+    for sub, label in (("a", "recommended"), ("b", "custom")):
+        with open(tmp_path / sub / "summary.csv", newline="") as fh:
+            assert {r["config"] for r in csv.DictReader(fh)} == {label}
+    # A setting cannot override both configurations at once.
+    assert main(base + ["--out", str(tmp_path / "c"), "--association", "one-to-one"]) == 2
+    assert "--config paper or --config recommended" in capsys.readouterr().err
+    assert not (tmp_path / "c").exists()
+    with pytest.raises(SystemExit):
+        main(base + ["--out", str(tmp_path / "d"), "--snrs", "2,x"])
 
 
 def test_resampling_threshold():

@@ -1,7 +1,9 @@
 """``geofeas pf-study``: the Monte-Carlo reproduction of seed 003 (Ohlmeyer and Menon, particle
 filters for image-plane tracking of multiple objects).
 
-Writes to DIR:
+Runs the paper-faithful configuration, the project's recommended one or both (``--config``;
+``geofeas.tracking.PF_CONFIGS``) on the same seeded runs and writes to DIR, every CSV row
+starting with its ``config``:
 
 - ``pca_vs_snr.csv`` (``method, snr_db, pca``): probability of correct association of Methods
   1 and 2 at 0, 1, ..., 20 dB (Fig. 19);
@@ -11,10 +13,12 @@ Writes to DIR:
   fraction, each with its 95 % percentile-bootstrap interval over runs (``_lo``, ``_hi``);
 - ``ic_sensitivity.csv`` (``xmax, vmax, rmse_px, held, pca``): Method 2 at 2 dB against the
   initialisation half-widths (Fig. 20);
-- ``comparison.md``: the numbers beside the paper's statements;
-- figures: ``fig19_pca_vs_snr.png``, ``fig20_ic_sensitivity.png``, ``rmse_vs_snr.png``,
-  ``fig02_frames.png`` and, for run 0, tracks / errors / association / residual figures of
-  Method 1 at 15 dB and Method 2 at 15, 6 and 2 dB (``m<method>_<snr>db_*.png``, Figs. 6-18).
+- ``comparison.md``: the numbers beside the paper's statements, the two configurations side by
+  side;
+- figures: ``fig19_pca_vs_snr.png``, ``rmse_vs_snr.png`` (every configuration),
+  ``fig20_ic_sensitivity.png``, ``fig02_frames.png`` and, for run 0, tracks / errors /
+  association / residual figures of Method 1 at 15 dB and Method 2 at 15, 6 and 2 dB
+  (``m<method>_<snr>db_*.png``, Figs. 6-18) of the first configuration (``paper`` with ``both``).
 """
 
 from __future__ import annotations
@@ -26,12 +30,12 @@ import math
 import sys
 import time
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
 from ._atomic import save_figure, write_text
-from .tracking import PAPER_IC, PAPER_PCA, pf_simulate_run, pf_study, plot_pf_run
+from .tracking import PAPER_IC, PAPER_PCA, PF_CONFIGS, pf_simulate_run, pf_study, plot_pf_run
 
 #: SNRs of the error table.
 ERROR_SNRS = (2.0, 6.0, 15.0)
@@ -74,48 +78,52 @@ def _ci_header(names: tuple[str, ...]) -> list[str]:
     return [f"{c}{s}" for c in names for s in ("", "_lo", "_hi")]
 
 
-def write_csvs(res: dict[str, Any], out: Path) -> None:
-    n = len(res["method"])
-    n_ic = res["_n_ic"]
-    snr_rows = list(range(n - n_ic))
-    _csv(
-        out / "pca_vs_snr.csv",
-        ["method", "snr_db"] + _ci_header(("pca",)),
-        [
-            [int(res["method"][k]), f"{res['snr_db'][k]:g}"] + _with_ci(res, k, ("pca",))
+def write_csvs(results: list[tuple[str, dict[str, Any]]], out: Path) -> None:
+    """Writes the four CSVs; ``results`` is ``[(config, pf_study result), ...]``."""
+    pca: list[list[Any]] = []
+    errors: list[list[Any]] = []
+    summary: list[list[Any]] = []
+    ic: list[list[Any]] = []
+    for cfg, res in results:
+        n = len(res["method"])
+        n_ic = res["_n_ic"]
+        snr_rows = list(range(n - n_ic))
+        pca += [
+            [cfg, int(res["method"][k]), f"{res['snr_db'][k]:g}"] + _with_ci(res, k, ("pca",))
             for k in snr_rows
-        ],
-    )
-    _csv(
-        out / "errors.csv",
-        ["method", "snr_db", "filter", "rmse_px"],
-        [
-            [int(res["method"][k]), f"{res['snr_db'][k]:g}", i + 1, _fmt(v)]
+        ]
+        errors += [
+            [cfg, int(res["method"][k]), f"{res['snr_db'][k]:g}", i + 1, _fmt(v)]
             for k in snr_rows
             if float(res["snr_db"][k]) in ERROR_SNRS
             for i, v in enumerate(res["filter_rmse_px"][k])
-        ],
-    )
-    _csv(
-        out / "summary.csv",
-        ["method", "snr_db", "xmax", "vmax", "runs"] + _ci_header(METRICS) + list(BANK_METRICS),
-        [
-            [int(res["method"][k])]
+        ]
+        summary += [
+            [cfg, int(res["method"][k])]
             + [f"{res[c][k]:g}" for c in ("snr_db", "xmax", "vmax")]
             + [int(res["_runs"])]
             + _with_ci(res, k, METRICS)
             + [_fmt(float(res[c][k])) for c in BANK_METRICS]
             for k in range(n)
-        ],
+        ]
+        ic += [
+            [cfg, f"{res['xmax'][k]:g}", f"{res['vmax'][k]:g}"]
+            + _with_ci(res, k, ("rmse_px", "held", "pca"))
+            for k in range(n - n_ic, n)
+        ]
+    _csv(out / "pca_vs_snr.csv", ["config", "method", "snr_db"] + _ci_header(("pca",)), pca)
+    _csv(out / "errors.csv", ["config", "method", "snr_db", "filter", "rmse_px"], errors)
+    _csv(
+        out / "summary.csv",
+        ["config", "method", "snr_db", "xmax", "vmax", "runs"]
+        + _ci_header(METRICS)
+        + list(BANK_METRICS),
+        summary,
     )
     _csv(
         out / "ic_sensitivity.csv",
-        ["xmax", "vmax"] + _ci_header(("rmse_px", "held", "pca")),
-        [
-            [f"{res['xmax'][k]:g}", f"{res['vmax'][k]:g}"]
-            + _with_ci(res, k, ("rmse_px", "held", "pca"))
-            for k in range(n - n_ic, n)
-        ],
+        ["config", "xmax", "vmax"] + _ci_header(("rmse_px", "held", "pca")),
+        ic,
     )
 
 
@@ -146,7 +154,7 @@ def comparison_markdown(res: dict[str, Any], note: str) -> str:
         "| RMSE M1 [px] | held M2 | held M1 |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
-    for snr in (0.0, 2.0, 6.0, 9.0, 12.0, 15.0, 20.0):
+    for snr in TABLE_SNRS:
         paper = PAPER_PCA.get(snr)
         lines.append(
             f"| {snr:g} | {'PCA %.0f%%' % (100 * paper) if paper is not None else '-'} | "
@@ -171,7 +179,7 @@ def comparison_markdown(res: dict[str, Any], note: str) -> str:
         except KeyError:
             return "-"
 
-    for snr in (0.0, 2.0, 6.0, 9.0, 12.0, 15.0, 20.0):
+    for snr in TABLE_SNRS:
         cells = [
             plain(m, snr, key)
             for key in ("gospa", "gospa_missed", "id_switches", "fragmentations")
@@ -194,52 +202,98 @@ def comparison_markdown(res: dict[str, Any], note: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-def plot_study(res: dict[str, Any], out: Path) -> None:
+#: Metrics of the side-by-side table: (key, method, label).
+SIDE_BY_SIDE = (
+    ("pca", 2, "PCA, Method 2"),
+    ("pca", 1, "PCA, Method 1"),
+    ("hit", 2, "hit, Method 2"),
+    ("hit", 1, "hit, Method 1"),
+    ("rmse_px", 2, "RMSE [px], Method 2"),
+    ("rmse_px", 1, "RMSE [px], Method 1"),
+    ("held", 1, "held, Method 1"),
+)
+
+#: SNRs of the tables, dB.
+TABLE_SNRS = (0.0, 2.0, 6.0, 9.0, 12.0, 15.0, 20.0)
+
+
+def side_by_side_markdown(results: list[tuple[str, dict[str, Any]]]) -> str:
+    """The paper's figures beside the first two configurations of ``results``, with whether
+    their 95 % intervals are disjoint (``apart``)."""
+    (name_a, a), (name_b, b) = results[0], results[1]
+    lines = [
+        f"Configurations side by side ({name_a} / {name_b}; value [95 % percentile-bootstrap "
+        "interval over runs]; *apart*: the two intervals are disjoint):\n",
+        f"| metric | SNR [dB] | the paper | `{name_a}` | `{name_b}` | apart |",
+        "|---|---|---|---|---|---|",
+    ]
+    for key, method, label in SIDE_BY_SIDE:
+        for snr in TABLE_SNRS:
+            try:
+                ka, kb = _row(a, method, snr), _row(b, method, snr)
+            except KeyError:
+                continue
+            paper = PAPER_PCA.get(snr) if (key, method) == ("pca", 2) else None
+            lo_a, hi_a = float(a[f"{key}_lo"][ka]), float(a[f"{key}_hi"][ka])
+            lo_b, hi_b = float(b[f"{key}_lo"][kb]), float(b[f"{key}_hi"][kb])
+            apart = "yes" if hi_a < lo_b or hi_b < lo_a else "no"
+            lines.append(
+                f"| {label} | {snr:g} | {'%.0f%%' % (100 * paper) if paper is not None else '-'} "
+                f"| {_interval(a, ka, key)} | {_interval(b, kb, key)} | {apart} |"
+            )
+    return "\n".join(lines) + "\n"
+
+
+def plot_study(results: list[tuple[str, dict[str, Any]]], out: Path) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    n = len(res["method"])
-    m = n - res["_n_ic"]
-    method = np.asarray(res["method"][:m])
-    snr = np.asarray(res["snr_db"][:m])
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for k, style in ((1, "s--"), (2, "o-")):
-        sel = method == k
-        ax.plot(snr[sel], 100 * np.asarray(res["pca"][:m])[sel], style, label=f"Method {k}")
-        ax.plot(
-            snr[sel],
-            100 * np.asarray(res["hit"][:m])[sel],
-            style[0] + ":",
-            color=ax.lines[-1].get_color(),
-            alpha=0.6,
-            label=f"Method {k}, hit (peak within 3 px)",
-        )
+    fig, (ax, ax_hit) = plt.subplots(1, 2, figsize=(11, 4), sharey=True)
+    fig_rmse, ax_rmse = plt.subplots(figsize=(6, 4))
+    for c, (cfg, res) in enumerate(results):
+        m = len(res["method"]) - res["_n_ic"]
+        method = np.asarray(res["method"][:m])
+        snr = np.asarray(res["snr_db"][:m])
+        for k, marker in ((1, "s"), (2, "o")):
+            sel = method == k
+            style = marker + ("-" if c == 0 else "--")
+            color = f"C{2 * c + k - 1}"
+            label = f"Method {k}, {cfg}"
+            for a, key in ((ax, "pca"), (ax_hit, "hit")):
+                v = 100 * np.asarray(res[key][:m])[sel]
+                lo = 100 * np.asarray(res[f"{key}_lo"][:m])[sel]
+                hi = 100 * np.asarray(res[f"{key}_hi"][:m])[sel]
+                a.plot(snr[sel], v, style, color=color, ms=4, label=label)
+                a.fill_between(snr[sel], lo, hi, color=color, alpha=0.2)
+            ax_rmse.semilogy(
+                snr[sel], np.asarray(res["rmse_px"][:m])[sel], style, color=color, label=label
+            )
     ax.plot(list(PAPER_PCA), [100 * v for v in PAPER_PCA.values()], "k^", label="paper, Method 2")
-    ax.set_xlabel("SNR [dB]")
-    ax.set_ylabel("PCA [%]")
-    ax.set_ylim(0, 105)
-    ax.grid(alpha=0.3)
-    ax.legend()
-    ax.set_title("Probability of correct association vs SNR (Fig. 19)")
+    ax.set_title("PCA: nearest target labels the peak (Fig. 19)")
+    ax_hit.set_title("hit: the peak is also within 3 px of the target")
+    for a in (ax, ax_hit):
+        a.set_xlabel("SNR [dB]")
+        a.set_ylim(0, 105)
+        a.grid(alpha=0.3)
+    ax.set_ylabel("probability of correct association [%]")
+    ax.legend(fontsize=8)
     fig.tight_layout()
     save_figure(fig, out / "fig19_pca_vs_snr.png", dpi=110)
     plt.close(fig)
 
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for k, style in ((1, "s--"), (2, "o-")):
-        sel = method == k
-        ax.semilogy(snr[sel], np.asarray(res["rmse_px"][:m])[sel], style, label=f"Method {k}")
-    ax.set_xlabel("SNR [dB]")
-    ax.set_ylabel("position RMSE [px]")
-    ax.grid(alpha=0.3, which="both")
-    ax.legend()
-    ax.set_title("Position RMSE over 10 s and four targets")
-    fig.tight_layout()
-    save_figure(fig, out / "rmse_vs_snr.png", dpi=110)
-    plt.close(fig)
+    ax_rmse.set_xlabel("SNR [dB]")
+    ax_rmse.set_ylabel("position RMSE [px]")
+    ax_rmse.grid(alpha=0.3, which="both")
+    ax_rmse.legend(fontsize=8)
+    ax_rmse.set_title("Position RMSE over 10 s and four targets")
+    fig_rmse.tight_layout()
+    save_figure(fig_rmse, out / "rmse_vs_snr.png", dpi=110)
+    plt.close(fig_rmse)
 
+    cfg, res = results[0]
+    m = len(res["method"]) - res["_n_ic"]
     xs = np.asarray(res["xmax"][m:])
     vs = np.asarray(res["vmax"][m:])
     fig, ax1 = plt.subplots(figsize=(6, 4))
@@ -253,7 +307,7 @@ def plot_study(res: dict[str, Any], out: Path) -> None:
     ax2.set_ylim(0, 105)
     ax1.set_xticks(pos, labels)
     ax1.set_xlabel("Xmax [px] / Vmax [px/s]")
-    ax1.set_title("Method 2 initial-condition sensitivity (Fig. 20)")
+    ax1.set_title(f"Method 2 initial-condition sensitivity (Fig. 20), {cfg}")
     fig.legend(loc="upper left", fontsize=8)
     fig.tight_layout()
     save_figure(fig, out / "fig20_ic_sensitivity.png", dpi=110)
@@ -279,32 +333,81 @@ def plot_frames(seed: int, out: Path) -> None:
     plt.close(fig)
 
 
+def _snr_list(text: str) -> list[float]:
+    try:
+        out = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected numbers separated by commas, got {text!r}"
+        ) from None
+    if not out or not all(math.isfinite(v) for v in out):
+        raise argparse.ArgumentTypeError(f"expected finite numbers, got {text!r}")
+    return out
+
+
+def _configs(args: argparse.Namespace) -> list[tuple[str, dict[str, Any]]]:
+    """``[(label, {association, smoothing}), ...]`` of the configurations to run; an explicit
+    ``--association`` / ``--smoothing`` that departs from the named configuration labels it
+    ``custom``."""
+    names = ["paper", "recommended"] if args.config == "both" else [args.config]
+    overrides = {
+        k: v
+        for k, v in (("association", args.association), ("smoothing", args.smoothing))
+        if v is not None
+    }
+    if overrides and len(names) > 1:
+        raise ValueError(
+            "--association / --smoothing change one configuration: "
+            "give --config paper or --config recommended with them"
+        )
+    out = []
+    for name in names:
+        settings = {**PF_CONFIGS[name], **overrides}
+        out.append((name if settings == PF_CONFIGS[name] else "custom", settings))
+    return out
+
+
 def run(args: argparse.Namespace) -> int:
+    try:
+        configs = _configs(args)
+    except ValueError as exc:
+        print(f"geofeas pf-study: error: {exc}", file=sys.stderr)
+        return 2
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    common = {
-        "seed": args.seed,
-        "truth": args.truth,
-        "particles": args.particles,
-        "association": args.association,
-        "smoothing": args.smoothing,
-    }
-    t0 = time.perf_counter()
-    res = pf_study(runs=args.runs, ic=PAPER_IC, ic_snr=args.ic_snr, **common)
-    res["_n_ic"] = len(PAPER_IC)
-    res["_runs"] = args.runs
-    elapsed = time.perf_counter() - t0
-    write_csvs(res, out)
-    note = (
-        f"{args.runs} runs per row, seed {args.seed}, {args.particles} particles per filter, "
-        f"truth '{args.truth}', association '{args.association}', peak smoothing "
-        f"{args.smoothing:g}, initial-condition rows at {args.ic_snr:g} dB"
-    )
-    write_text(out / "comparison.md", comparison_markdown(res, note))
-    print(
-        f"pf-study: {len(res['method'])} rows x {args.runs} runs in {elapsed:.1f} s -> {out}",
-        file=sys.stderr,
-    )
+    common = {"seed": args.seed, "truth": args.truth, "particles": args.particles}
+    results: list[tuple[str, dict[str, Any]]] = []
+    sections: list[str] = []
+    for label, settings in configs:
+        t0, c0 = time.perf_counter(), time.process_time()
+        res = pf_study(
+            runs=args.runs,
+            ic=PAPER_IC,
+            ic_snr=args.ic_snr,
+            snrs=args.snrs,
+            **common,
+            **settings,
+        )
+        res["_n_ic"] = len(PAPER_IC)
+        res["_runs"] = args.runs
+        elapsed, cpu = time.perf_counter() - t0, time.process_time() - c0
+        results.append((label, res))
+        note = (
+            f"{args.runs} runs per row, seed {args.seed}, {args.particles} particles per "
+            f"filter, truth '{args.truth}', association '{settings['association']}', peak "
+            f"smoothing {settings['smoothing']:g}, initial-condition rows at {args.ic_snr:g} dB"
+        )
+        sections.append(f"## Configuration `{label}`\n\n" + comparison_markdown(res, note))
+        print(
+            f"pf-study [{label}]: {len(res['method'])} rows x {args.runs} runs in "
+            f"{elapsed:.1f} s ({cpu:.1f} s CPU)",
+            file=sys.stderr,
+        )
+    write_csvs(results, out)
+    if len(results) > 1:
+        sections.insert(0, "## Side by side\n\n" + side_by_side_markdown(results))
+    write_text(out / "comparison.md", "\n".join(sections))
+    print(f"pf-study -> {out}", file=sys.stderr)
     if not args.no_figures:
         try:
             import matplotlib  # noqa: F401
@@ -315,15 +418,17 @@ def run(args: argparse.Namespace) -> int:
                 file=sys.stderr,
             )
             return 2
-        plot_study(res, out)
+        plot_study(results, out)
         plot_frames(args.seed, out)
-        for method, snr in ((1, 15.0), (2, 15.0), (2, 6.0), (2, 2.0)):
+        first = {**common, **configs[0][1]}
+        runs: tuple[tuple[Literal[1, 2], float], ...] = ((1, 15.0), (2, 15.0), (2, 6.0), (2, 2.0))
+        for method, snr in runs:
             r = pf_simulate_run(
                 snr_db=snr,
                 method=method,
                 snapshot_frames=[0, 25, 50, 75, 100],
                 keep_frames=[100],
-                **common,
+                **first,
             )
             plot_pf_run(r, out, prefix=f"m{method}_{snr:g}db")
         print(f"figures -> {out}", file=sys.stderr)
@@ -344,10 +449,18 @@ def add_parser(sub: Any) -> None:
         "--particles", type=int, default=10_000, help="particles per filter (10000, the paper's)"
     )
     p.add_argument(
+        "--config",
+        choices=["paper", "recommended", "both"],
+        default="both",
+        help="paper: the paper's filters, nearest association, raw-intensity peaks; "
+        "recommended: the same with peaks after smoothing by the point spread (Sigma = 2 px); "
+        "both (default): the two on the same runs, side by side",
+    )
+    p.add_argument(
         "--association",
         choices=["nearest", "one-to-one"],
-        default="nearest",
-        help="peak-to-filter association (nearest: the paper's)",
+        default=None,
+        help="peak-to-filter association, overriding the configuration's (nearest in both)",
     )
     p.add_argument(
         "--truth",
@@ -358,8 +471,15 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--smoothing",
         type=float,
-        default=0.0,
-        help="Gaussian smoothing of the frame before peak extraction, px (0: the paper's raw)",
+        default=None,
+        help="Gaussian smoothing of the frame before peak extraction, px, overriding the "
+        "configuration's (paper: 0, the raw frame; recommended: 2, the point spread's Sigma)",
+    )
+    p.add_argument(
+        "--snrs",
+        type=_snr_list,
+        default=None,
+        help="comma-separated SNRs of the Method 1 / 2 rows, dB (0,1,...,20)",
     )
     p.add_argument("--ic-snr", type=float, default=2.0, help="SNR of the Fig. 20 rows (2 dB)")
     p.add_argument("--no-figures", action="store_true", help="write the CSVs and markdown only")

@@ -26,6 +26,7 @@ from ._mht import (
 from ._pf import (
     PAPER_IC,
     PAPER_PCA,
+    PF_CONFIGS,
     pf_ellipses,
     pf_log_weights,
     pf_peaks,
@@ -54,6 +55,7 @@ __all__ = [
     "trilaterate",
     "PAPER_IC",
     "PAPER_PCA",
+    "PF_CONFIGS",
     "pf_ellipses",
     "pf_log_weights",
     "pf_peaks",

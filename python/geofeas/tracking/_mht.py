@@ -512,9 +512,10 @@ def study(
     plain EKF), ``new_target_rate`` (expected new targets per scan in a sensor's range /
     range-rate window: the new-target density of Reid's hypothesis probabilities, which the paper
     does not give), ``confirm_probability`` (0: no confirmation stage) and ``accel_sigma``
-    (process noise, m/s^2; the paper's 4 g). The paper-faithful MHT (``"mht-paper"``) uses the
-    ``paper_*`` options. ``detection_probability`` is the simulated sensors' (the paper: 1; the
-    trackers assume 0.9).
+    (process noise: white-acceleration standard deviation, m/s^2; 2 g, the value of experiment
+    E1 in ``docs/mht-study.md``, where it gives the lowest GOSPA of the values tried). The
+    paper-faithful MHT (``"mht-paper"``) uses the ``paper_*`` options. ``detection_probability``
+    is the simulated sensors' (the paper: 1; the trackers assume 0.9).
 
     Returns
     -------

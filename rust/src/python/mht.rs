@@ -302,7 +302,7 @@ fn mht_track<'py>(
 /// Simulates and tracks one run of a paper scenario; returns detections, tracks, ellipses, truth
 /// and metrics.
 #[pyfunction]
-#[pyo3(signature = (*, targets=2, sensors=3, false_alarms=2, tracker="mht", run=0, seed=0, max_hypotheses=50, ekf_iterations=2, detection_probability=1.0, new_target_rate=0.02, confirm_probability=0.0, accel_sigma=4.0*9.80665))]
+#[pyo3(signature = (*, targets=2, sensors=3, false_alarms=2, tracker="mht", run=0, seed=0, max_hypotheses=50, ekf_iterations=2, detection_probability=1.0, new_target_rate=0.02, confirm_probability=0.0, accel_sigma=2.0*9.80665))]
 #[allow(clippy::too_many_arguments)]
 fn mht_simulate_run<'py>(
     py: Python<'py>,
