@@ -566,8 +566,12 @@ def test_reliability_table_and_ece_by_hand():
         reliability([1.5], [True])
 
 
-@pytest.mark.parametrize("sensors, bound", [("ais,radar", 0.9), ("ais,radar,aircraft,hfdf", 0.7)])
-def test_demo_command_end_to_end(tmp_path, capsys, sensors, bound):
+# F1 of the automatic matches with AIS and radar; with every source, where the aircraft and HF
+# DF pairs geometry cannot decide go to the operator, F1 after 100 truthful decisions
+@pytest.mark.parametrize(
+    "sensors, decisions, bound", [("ais,radar", 0, 0.9), ("ais,radar,aircraft,hfdf", 100, 0.95)]
+)
+def test_demo_command_end_to_end(tmp_path, capsys, sensors, decisions, bound):
     from geofeas.cli import main
 
     out = tmp_path / "demo"
@@ -591,7 +595,10 @@ def test_demo_command_end_to_end(tmp_path, capsys, sensors, bound):
     metrics = pd.read_csv(out / "metrics.csv")
     default = metrics.iloc[0]
     assert default["config"] == "default" and default["combine"] == "chi2"
-    assert default["f1"] > bound
+    assert default["precision"] >= 0.99
+    operator = pd.read_csv(out / "operator.csv").set_index("decisions")
+    assert operator.loc[0, "f1"] == pytest.approx(default["f1"], abs=1e-4)
+    assert operator.loc[decisions, "f1"] > bound
     assert default["n_match"] + default["n_borderline"] + default["n_non-match"] == len(
         pd.read_csv(out / "pairs.csv")
     )
