@@ -98,6 +98,9 @@ def test_align_errors_name_the_problem():
         align_tracks([t], step=1.0, max_gap=-1.0)
     with pytest.raises(geofeas.GeofeasError, match="used twice"):
         align_tracks([t, t], step=1.0)
+    twice = track([0.0, 10.0, 0.0], [[0, 0], [1, 1], [2, 2]], [np.eye(2)] * 3, tid="twice")
+    with pytest.raises(geofeas.GeofeasError, match="'twice' has states 0 and 2 at the same"):
+        align_tracks([t, twice], step=1.0)
     with pytest.raises(geofeas.GeofeasError, match="not finite"):
         align_tracks([t], times=[0.0, math.nan])
 

@@ -398,16 +398,17 @@ def tracks_to_reports(
                     "metadata['source'] on the track"
                 )
             src = str(meta["source"])
-        for k, state in enumerate(track.states):
-            what = f"track {track_id!r} state {k}"
-            mean, cov = _position(state, mapping, what)
-            ids.append(track_id)
-            sources.append(src)
-            times.append(_seconds(state.timestamp, what))
+        states = list(track.states)
+        if states:
+            mean, cov = _positions(states, mapping, f"track {track_id!r} state")
             means.append(mean)
             covs.append(cov)
+        for k, state in enumerate(states):
+            ids.append(track_id)
+            sources.append(src)
+            times.append(_seconds(state.timestamp, f"track {track_id!r} state {k}"))
     if means:
-        ell = from_gaussian(np.stack(means), np.stack(covs))
+        ell = from_gaussian(np.concatenate(means), np.concatenate(covs))
     else:
         ell = np.empty((0, 5))
     return pd.DataFrame(
@@ -720,13 +721,21 @@ def align_tracks(
     if len(set(ids)) != len(ids):
         dup = next(i for i in ids if ids.count(i) > 1)
         raise GeofeasError(f"argument 'tracks': track id {dup!r} is used twice")
-    keyed = [
-        Track(t.states, id=i, init_metadata={"source": "-"})
-        for t, i in zip(tracks, ids, strict=True)
-    ]
-    df = tracks_to_reports(keyed, source="-", mapping=mapping)
+    df = tracks_to_reports(tracks, source="-", mapping=mapping)  # rows track by track, in order
     dense = np.repeat(np.arange(len(tracks), dtype=np.uint32), [len(t.states) for t in tracks])
     seconds = df["time"].to_numpy(np.float64)
+    start = 0
+    for n, track in enumerate(tracks):  # the engine takes one state per track and instant
+        t = seconds[start : start + len(track.states)]
+        _, first, count = np.unique(t, return_index=True, return_counts=True)
+        if np.any(count > 1):
+            k = int(first[np.argmax(count > 1)])
+            again = int(np.flatnonzero(t == t[k])[1])
+            raise GeofeasError(
+                f"argument 'tracks': track {ids[n]!r} has states {k} and {again} at the same "
+                f"time {track.states[k].timestamp}"
+            )
+        start += len(track.states)
     if step is not None:
         if isinstance(step, bool) or not (
             isinstance(step, (int, float)) and step > 0 and math.isfinite(step)
