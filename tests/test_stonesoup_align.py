@@ -14,6 +14,8 @@ from datetime import datetime, timedelta
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 pytest.importorskip("stonesoup")
 pd = pytest.importorskip("pandas")
@@ -190,7 +192,8 @@ def _planar_equivalent(lat0, lon0, lat, lon, bearing):
 
     g = Geodesic.WGS84.Inverse(lat0, lon0, lat, lon)
     s, a1, a2 = g["s12"], math.radians(g["azi1"]), math.radians(g["azi2"])
-    return s * math.sin(a1), s * math.cos(a1), math.radians(bearing) + a1 - a2
+    phi = math.radians(bearing) + a1 - a2
+    return s * math.sin(a1), s * math.cos(a1), (phi + math.pi) % (2 * math.pi) - math.pi
 
 
 @pytest.mark.parametrize(
@@ -291,3 +294,40 @@ def test_ambiguous_angle_units_are_refused_with_row_and_field():
     with pytest.raises(geofeas.GeofeasError) as e:
         reports_to_tracks(_geo_frame(rx=[300.0, 200.0, "wide"]))
     assert (e.value.row, e.value.field) == (2, "rx")
+    planar = _geo_frame().rename(columns={"lat": "x", "lon": "y"})
+    planar["phi"] = [0.1, 0.2, 0.3]
+    planar = planar.drop(columns="bearing")
+    for column, value in (("x", math.nan), ("ry", -1.0), ("rx", math.inf)):
+        bad = planar.copy()
+        bad.loc[1, column] = value
+        with pytest.raises(geofeas.GeofeasError) as e:
+            reports_to_tracks(bad)
+        assert (e.value.argument, e.value.row, e.value.field) == ("reports", 1, column)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    lat0=st.floats(-75.0, 75.0),
+    lon0=st.floats(-180.0, 180.0),
+    azimuth=st.floats(-180.0, 180.0),
+    distance=st.floats(0.0, 50_000.0),
+    bearing=st.floats(0.0, 359.99),
+    rx=st.floats(1.0, 5_000.0),
+    ratio=st.floats(1e-3, 1.0),
+)
+def test_geographic_and_planar_reports_agree_anywhere(
+    lat0, lon0, azimuth, distance, bearing, rx, ratio
+):
+    from geographiclib.geodesic import Geodesic
+
+    p = Geodesic.WGS84.Direct(lat0, lon0, azimuth, distance)
+    lat, lon = p["lat2"], (p["lon2"] + 180.0) % 360.0 - 180.0
+    x, y, phi = _planar_equivalent(lat0, lon0, lat, lon, bearing)
+    common = {"track_id": ["a"], "source": ["s"], "time": [0.0], "rx": [rx], "ry": [rx * ratio]}
+    geo = pd.DataFrame({**common, "lat": [lat], "lon": [lon], "bearing": [bearing]})
+    planar = pd.DataFrame({**common, "x": [x], "y": [y], "phi": [phi]})
+    (g,) = reports_to_tracks(geo, origin=(lat0, lon0), bearing_unit="degrees")
+    (q,) = reports_to_tracks(planar)
+    np.testing.assert_allclose(g.states[0].state_vector, q.states[0].state_vector, atol=1e-6)
+    scale = (rx / 2) ** 2
+    np.testing.assert_allclose(g.states[0].covar, q.states[0].covar, atol=1e-9 * scale)
