@@ -629,14 +629,14 @@ def reports_to_tracks(
     try:
         means, covs = to_gaussian(ell) if len(df) else (np.empty((0, 2)), np.empty((0, 2, 2)))
     except GeofeasError as exc:  # the core names the ellipse field; name the table's column
-        row, field = getattr(exc, "row", None), getattr(exc, "field", None)
-        if row is None or field is None:
+        at, field = getattr(exc, "row", None), getattr(exc, "field", None)
+        if at is None or field is None:
             raise
         column = {"x0": "x", "y0": "y"}.get(field, field)
         if coords == "geographic" and column == "phi":
             column = "bearing"
-        shown = df[column].iloc[row] if column in df.columns else ell[row]
-        raise _row_error(f"{shown!r} is not accepted ({exc})", row=row, field=column) from None
+        shown = df[column].iloc[at] if column in df.columns else ell[at]
+        raise _row_error(f"{shown!r} is not accepted ({exc})", row=at, field=column) from None
     seconds = _times(df["time"])
     bad = np.flatnonzero(~np.isfinite(seconds))
     if bad.size:
