@@ -325,6 +325,20 @@ def association_pair_instants(
     horizon: float = 0.0,
     process_noise: float = 2.0,
 ) -> dict[str, NDArray[np.float64]]: ...
+def association_states_at(
+    track: NDArray[np.uint32],
+    source: NDArray[np.uint32],
+    time: NDArray[np.float64],
+    aou: NDArray[np.float64],
+    n_tracks: int,
+    times: NDArray[np.float64],
+    *,
+    geographic: bool,
+    max_gap: float = 300.0,
+    horizon: float = 0.0,
+    process_noise: float = 2.0,
+) -> dict[str, NDArray[Any]]: ...
+def project_aeqd(aou: NDArray[np.float64], origin: tuple[float, float]) -> NDArray[np.float64]: ...
 def association_pair_stats(
     track: NDArray[np.uint32],
     source: NDArray[np.uint32],

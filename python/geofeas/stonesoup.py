@@ -84,6 +84,7 @@ __all__ = [
     "PosteriorTrackAssociator",
     "ProbabilisticTimeRangeAssociation",
     "ThresholdedGLRMeasure",
+    "align_tracks",
     "associate",
     "reports_to_tracks",
     "tracks_to_reports",
@@ -161,6 +162,33 @@ def _position(
     return mean, cov
 
 
+def _positions(
+    states: Sequence[Any], mapping: Sequence[int] | None, what: str
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Means ``(n, 2)`` and covariances ``(n, 2, 2)`` of the position components of Gaussian
+    states, gathered by one stacked array operation per side (the per-state :func:`_position`
+    only when the states differ in dimension or lack a covariance, for its error message)."""
+    n = len(states)
+    try:
+        # plain ndarrays first: Stone Soup's array types index slowly
+        vectors = np.array([np.asarray(s.mean, dtype=np.float64) for s in states])
+        covars = np.array([np.asarray(s.covar, dtype=np.float64) for s in states])
+    except (AttributeError, ValueError, TypeError):
+        vectors = covars = None  # type: ignore[assignment]
+    if vectors is None or covars is None or vectors.ndim != 3 or covars.ndim != 3:
+        means = np.empty((n, 2))
+        covs = np.empty((n, 2, 2))
+        for k, state in enumerate(states):
+            means[k], covs[k] = _position(state, mapping, f"{what} {k} ({state.timestamp})")
+        return means, covs
+    dim = vectors.shape[1]
+    index = list(range(dim)) if mapping is None else list(mapping)
+    if len(index) != 2 or not all(-dim <= i < dim for i in index):
+        # the per-state path words the error
+        _position(states[0], mapping, f"{what} 0 ({states[0].timestamp})")
+    return vectors[:, index, 0], covars[:, index][:, :, index]
+
+
 class GeofeasMeasure(Measure, TrackMeasure):
     """Base of the geofeas measures: a geofeasibility score turned into a Stone Soup distance.
 
@@ -192,17 +220,22 @@ class GeofeasMeasure(Measure, TrackMeasure):
     def ellipses(self, states: Sequence[Any], *, second: bool = False) -> NDArray[np.float64]:
         """The 2-sigma position ellipses ``(n, 5)`` of Gaussian states (``from_gaussian``)."""
         mapping = self.mapping2 if second else self.mapping
-        means = np.empty((len(states), 2))
-        covs = np.empty((len(states), 2, 2))
-        for k, state in enumerate(states):
-            means[k], covs[k] = _position(state, mapping, f"state {k} ({state.timestamp})")
+        means, covs = _positions(states, mapping, "state")
         return from_gaussian(means, covs)
+
+    def pair_ellipses(
+        self, first: Sequence[Any], second: Sequence[Any]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The ellipses of two aligned state sequences, both sides in one core call."""
+        m1, c1 = _positions(first, self.mapping, "state")
+        m2, c2 = _positions(second, self.mapping2, "state")
+        both = from_gaussian(np.concatenate([m1, m2]), np.concatenate([c1, c2]))
+        return both[: len(first)], both[len(first) :]
 
     def neglog(self, first: Sequence[Any], second: Sequence[Any]) -> NDArray[np.float64]:
         """``-ln g`` of aligned state sequences, in ``[0, inf]``. Measures whose score has a
         closed-form logarithm (the GLR) override this so it never passes through ``exp``."""
-        a = self.ellipses(first)
-        b = self.ellipses(second, second=True)
+        a, b = self.pair_ellipses(first, second)
         g = np.asarray(self.score(a, b), dtype=np.float64)
         with np.errstate(divide="ignore"):
             out: NDArray[np.float64] = -np.log(g)
@@ -227,8 +260,9 @@ class GeofeasMeasure(Measure, TrackMeasure):
         aligned = self._aligned(item1, item2)
         if aligned is None:
             return None
-        a = self.ellipses(aligned[0])
-        b = self.ellipses(aligned[1], second=True)
+        a, b = self.pair_ellipses(*aligned)
+        if len(a) == 1:  # one instant (two states): every combination is the score itself
+            return float(np.asarray(self.score(a, b), dtype=np.float64)[0])
         return _combine(np.asarray(self.score(a, b), dtype=np.float64), self.combine)
 
     def __call__(self, item1: Any, item2: Any) -> float | None:  # type: ignore[override]
@@ -240,7 +274,8 @@ class GeofeasMeasure(Measure, TrackMeasure):
             aligned = self._aligned(item1, item2)
             if aligned is None:
                 return None
-            return _combine_neglog(self.neglog(*aligned), self.combine)
+            nl = self.neglog(*aligned)
+            return float(nl[0]) if nl.size == 1 else _combine_neglog(nl, self.combine)
         g = self.similarity(item1, item2)
         return None if g is None else _to_distance(g, self.distance)
 
@@ -261,13 +296,10 @@ class GLRMeasure(GeofeasMeasure):
         """``0.5 d^T (R1 + R2)^-1 d`` per instant, straight from the states' means and
         covariances (no ``exp``: no saturation at large distances)."""
         n = len(first)
-        d = np.empty((n, 2))
-        s = np.empty((n, 2, 2))
-        for k, (x, y) in enumerate(zip(first, second, strict=True)):
-            ma, ca = _position(x, self.mapping, f"state {k} ({x.timestamp})")
-            mb, cb = _position(y, self.mapping2, f"state {k} ({y.timestamp})")
-            d[k] = ma - mb
-            s[k] = ca + cb
+        ma, ca = _positions(first, self.mapping, "state")
+        mb, cb = _positions(second, self.mapping2, "state")
+        d = ma - mb
+        s = ca + cb
         # the covariances are validated as the score would validate them
         from_gaussian(np.zeros((n, 2)), s / 2)
         # 2x2 solve in closed form, scaled per instant so no product overflows
@@ -366,16 +398,17 @@ def tracks_to_reports(
                     "metadata['source'] on the track"
                 )
             src = str(meta["source"])
-        for k, state in enumerate(track.states):
-            what = f"track {track_id!r} state {k}"
-            mean, cov = _position(state, mapping, what)
-            ids.append(track_id)
-            sources.append(src)
-            times.append(_seconds(state.timestamp, what))
+        states = list(track.states)
+        if states:
+            mean, cov = _positions(states, mapping, f"track {track_id!r} state")
             means.append(mean)
             covs.append(cov)
+        for k, state in enumerate(states):
+            ids.append(track_id)
+            sources.append(src)
+            times.append(_seconds(state.timestamp, f"track {track_id!r} state {k}"))
     if means:
-        ell = from_gaussian(np.stack(means), np.stack(covs))
+        ell = from_gaussian(np.concatenate(means), np.concatenate(covs))
     else:
         ell = np.empty((0, 5))
     return pd.DataFrame(
@@ -392,7 +425,23 @@ def tracks_to_reports(
     )
 
 
-_REQUIRED = ("track_id", "source", "time", "x", "y", "rx", "ry", "phi")
+_REQUIRED = ("track_id", "source", "time")
+_PLANAR = ("x", "y", "rx", "ry", "phi")
+_GEOGRAPHIC = ("lat", "lon", "rx", "ry", "bearing")
+#: Columns that hold an angle of some other convention (mathematical, counter-clockwise from
+#: east, or unnamed units): never read as the AOU's orientation.
+_OTHER_ANGLES = ("theta", "angle", "orientation", "heading", "course", "azimuth")
+_BEARING_UNITS = ("auto", "degrees")
+
+
+def _row_error(message: str, *, row: int | None, field: str | None) -> GeofeasError:
+    """A ``GeofeasError`` about argument ``reports`` with its row and field."""
+    where = f"row {row}, " if row is not None else ""
+    err = GeofeasError(f"argument 'reports': {where}field '{field}': {message}")
+    err.argument = "reports"
+    err.row = row
+    err.field = field
+    return err
 
 
 def _times(column: "pd.Series") -> NDArray[np.float64]:
@@ -410,30 +459,184 @@ def _times(column: "pd.Series") -> NDArray[np.float64]:
     return ((parsed - epoch) / pd.Timedelta(seconds=1)).to_numpy(dtype=np.float64)
 
 
-def reports_to_tracks(reports: Any, /) -> set[Any]:
+def _numbers(df: "pd.DataFrame", columns: Sequence[str]) -> NDArray[np.float64]:
+    """The named columns as an ``(n, k)`` float64 array; a non-number names its row and field."""
+    out = np.empty((len(df), len(columns)))
+    for k, name in enumerate(columns):
+        values = pd.to_numeric(df[name], errors="coerce")
+        bad = np.flatnonzero(values.isna().to_numpy() & df[name].notna().to_numpy())
+        if (
+            bad.size
+            or pd.api.types.is_bool_dtype(df[name])
+            or pd.api.types.is_complex_dtype(df[name])
+        ):
+            row = int(bad[0]) if bad.size else 0
+            raise _row_error(f"not a number: {df[name].iloc[row]!r}", row=row, field=name)
+        out[:, k] = values.to_numpy(dtype=np.float64)
+    return out
+
+
+def _geographic_ellipses(
+    df: "pd.DataFrame", origin: tuple[float, float] | None, bearing_unit: str
+) -> tuple[NDArray[np.float64], tuple[float, float]]:
+    """Planar ellipses ``(n, 5)`` of geographic reports in the AEQD frame of ``origin``."""
+    if "bearing" not in df.columns:
+        if "phi" in df.columns:
+            raise _row_error(
+                "geographic reports (lat, lon) take the column 'bearing' (degrees clockwise from "
+                "true north); 'phi' is the planar angle in radians and is not read with lat/lon",
+                row=0 if len(df) else None,
+                field="phi",
+            )
+        raise _row_error("geographic reports need the column 'bearing'", row=None, field="bearing")
+    if "phi" in df.columns:
+        raise _row_error(
+            "both 'bearing' and 'phi' are given: which orientation is meant cannot be told; "
+            "keep 'bearing' (degrees clockwise from north) for lat/lon reports",
+            row=0 if len(df) else None,
+            field="phi",
+        )
+    if bearing_unit not in _BEARING_UNITS:
+        raise GeofeasError(
+            f"argument 'bearing_unit': expected one of {_BEARING_UNITS}, got {bearing_unit!r}"
+        )
+    aou = _numbers(df, _GEOGRAPHIC)
+    if bearing_unit == "auto" and len(aou):
+        # Degrees or radians? Bearings that all lie within [-2 pi, 2 pi] (and are not all 0) on
+        # non-circular AOUs would mean a picture whose every ellipse points within 6.3 degrees
+        # of north: far likelier radians. Refuse rather than rotate every ellipse.
+        oriented = np.flatnonzero((aou[:, 2] != aou[:, 3]) & np.isfinite(aou[:, 4]))
+        b = np.abs(aou[oriented, 4])
+        if b.size and np.all(b <= 2.0 * np.pi) and np.any(b > 0.0):
+            row = int(oriented[np.argmax(b)])
+            raise _row_error(
+                f"every bearing is within [-2 pi, 2 pi] (largest {aou[row, 4]!r} here): "
+                "radians or degrees cannot be told. 'bearing' is in degrees clockwise from "
+                "north; convert radians with numpy.degrees, or pass bearing_unit='degrees' if "
+                "these really are degrees",
+                row=row,
+                field="bearing",
+            )
+    if origin is None:
+        origin = (float(aou[0, 0]), float(aou[0, 1])) if len(aou) else (0.0, 0.0)
+    try:
+        lat0, lon0 = (float(v) for v in origin)
+    except (TypeError, ValueError):
+        raise GeofeasError(
+            f"argument 'origin': expected (lat, lon) in degrees, got {origin!r}"
+        ) from None
+    from ._core import project_aeqd
+
+    ell = project_aeqd(np.ascontiguousarray(aou), (lat0, lon0))
+    return np.asarray(ell, dtype=np.float64), (lat0, lon0)
+
+
+def reports_to_tracks(
+    reports: Any,
+    /,
+    *,
+    coords: str = "auto",
+    origin: tuple[float, float] | None = None,
+    bearing_unit: str = "auto",
+) -> set[Any]:
     """A reports table as Stone Soup tracks of 2-D position Gaussian states.
 
     Parameters
     ----------
     reports : pandas.DataFrame or mapping of column arrays
-        Planar contract columns ``track_id, source, time, x, y, rx, ry, phi`` (``time`` in
-        seconds since the Unix epoch or ISO-8601). Ellipses are validated by the core.
+        Columns ``track_id, source, time`` (``time`` in seconds since the Unix epoch or
+        ISO-8601) and either the planar ``x, y, rx, ry, phi`` (metres east/north, ``phi`` in
+        radians clockwise from north) or the geographic ``lat, lon, rx, ry, bearing`` (degrees
+        WGS84, 2-sigma semi-axes in metres, ``bearing`` of ``rx`` in degrees clockwise from
+        true north). Ellipses are validated by the core.
+    coords : {"auto", "planar", "geographic"}
+        ``"auto"`` picks the mode from the columns present (both sets present is refused).
+    origin : (lat, lon), optional
+        Geographic reports only: the centre of the planar frame (default: the first report's
+        position). The frame is the engine's azimuthal-equidistant projection centred on
+        ``origin`` (``x`` east, ``y`` north, metres; distances and azimuths from the origin
+        exact, Karney's geodesics on WGS84); each bearing is carried into the origin's frame
+        along the geodesic, as the engine carries covariances when it aligns tracks. Keep the
+        origin inside the picture: between two points ``r`` from it, distances are distorted
+        by about ``(r / 6371 km)^2 / 6`` relative (1 part in 10^5 at 50 km).
+    bearing_unit : {"auto", "degrees"}
+        ``"auto"`` refuses a bearing column whose values all lie within ``[-2 pi, 2 pi]``
+        (radians or degrees cannot be told); ``"degrees"`` confirms degrees.
 
     Returns
     -------
     set of stonesoup Track
         One track per ``track_id`` (its ``id``), of ``GaussianState`` with state vector
         ``[x, y]``, covariance from ``geofeas.to_gaussian`` (eqs. 56-59) and a naive UTC
-        ``datetime`` timestamp, sorted by time; ``metadata["source"]`` holds the source. Use
+        ``datetime`` timestamp, sorted by time; ``metadata["source"]`` holds the source, and
+        for geographic reports ``metadata["origin"]`` the frame's ``(lat, lon)``. Use
         ``mapping=(0, 1)`` in the measures for these tracks.
+
+    Raises
+    ------
+    GeofeasError
+        With ``argument``, ``row`` and ``field``: a missing column, a non-number, an invalid
+        ellipse or position, ``phi`` given with ``lat, lon`` (a planar angle in radians where a
+        bearing in degrees is expected), both ``phi`` and ``bearing``, a planar ``phi`` beyond
+        ``2 pi`` (degrees given as radians), a bearing column in unknown units, a track with
+        several sources.
     """
     df = reports if isinstance(reports, pd.DataFrame) else pd.DataFrame(dict(reports))
     missing = [c for c in _REQUIRED if c not in df.columns]
+    has_planar = all(c in df.columns for c in ("x", "y"))
+    has_geo = all(c in df.columns for c in ("lat", "lon"))
+    if coords == "auto":
+        if has_planar and has_geo:
+            raise GeofeasError(
+                "argument 'reports': both planar (x, y) and geographic (lat, lon) positions are "
+                "given; pass coords='planar' or coords='geographic'"
+            )
+        coords = "geographic" if has_geo else "planar"
+    if coords not in ("planar", "geographic"):
+        raise GeofeasError(
+            f"argument 'coords': expected 'auto', 'planar' or 'geographic', got {coords!r}"
+        )
+    columns: tuple[str, ...] = _PLANAR if coords == "planar" else _GEOGRAPHIC
+    if coords == "geographic" and "bearing" not in df.columns and "phi" in df.columns:
+        columns = tuple(c for c in columns if c != "bearing")  # reported below, with its row
+    missing += [c for c in columns if c not in df.columns]
     if missing:
-        hint = " (project lat/lon reports to planar metres first)" if "lat" in df.columns else ""
+        others = [c for c in _OTHER_ANGLES if c in df.columns]
+        hint = (
+            f" ({others[0]!r} is not read as the AOU orientation: give 'phi' (planar, radians "
+            "clockwise from north) or 'bearing' (with lat/lon, degrees clockwise from north))"
+            if others and ("phi" in missing or "bearing" in missing)
+            else ""
+        )
         raise GeofeasError(f"reports: missing column(s) {missing}{hint}")
-    ell = np.column_stack([df[c].to_numpy(dtype=np.float64) for c in ("x", "y", "rx", "ry", "phi")])
-    means, covs = to_gaussian(ell) if len(df) else (np.empty((0, 2)), np.empty((0, 2, 2)))
+    frame: dict[str, Any] = {}
+    if coords == "geographic":
+        ell, frame_origin = _geographic_ellipses(df, origin, bearing_unit)
+        frame = {"origin": frame_origin}
+    else:
+        if origin is not None:
+            raise GeofeasError("argument 'origin': only geographic (lat, lon) reports take one")
+        ell = _numbers(df, _PLANAR)
+        big = np.flatnonzero(np.abs(ell[:, 4]) > 2.0 * np.pi)
+        if big.size:
+            row = int(big[0])
+            raise _row_error(
+                f"{ell[row, 4]!r} is beyond 2 pi: 'phi' is in radians clockwise from north "
+                "(degrees? convert with numpy.radians, or give lat, lon, bearing)",
+                row=row,
+                field="phi",
+            )
+    try:
+        means, covs = to_gaussian(ell) if len(df) else (np.empty((0, 2)), np.empty((0, 2, 2)))
+    except GeofeasError as exc:  # the core names the ellipse field; name the table's column
+        at, field = getattr(exc, "row", None), getattr(exc, "field", None)
+        if at is None or field is None:
+            raise
+        column = {"x0": "x", "y0": "y"}.get(field, field)
+        if coords == "geographic" and column == "phi":
+            column = "bearing"
+        shown = df[column].iloc[at] if column in df.columns else ell[at]
+        raise _row_error(f"{shown!r} is not accepted ({exc})", row=at, field=column) from None
     seconds = _times(df["time"])
     bad = np.flatnonzero(~np.isfinite(seconds))
     if bad.size:
@@ -452,12 +655,153 @@ def reports_to_tracks(reports: Any, /) -> set[Any]:
             GaussianState(
                 means[r].reshape(2, 1),
                 covs[r],
-                timestamp=_EPOCH + timedelta(microseconds=round(float(seconds[r]) * 1e6)),
+                timestamp=_timestamp(float(seconds[r])),
             )
             for r in rows
         ]
-        tracks.add(Track(states, id=str(track_id), init_metadata={"source": srcs[rows[0]]}))
+        tracks.add(
+            Track(states, id=str(track_id), init_metadata={"source": srcs[rows[0]], **frame})
+        )
     return tracks
+
+
+def _timestamp(seconds: float) -> datetime:
+    """Naive UTC datetime of seconds since the Unix epoch (to the microsecond)."""
+    return _EPOCH + timedelta(microseconds=round(seconds * 1e6))
+
+
+def align_tracks(
+    tracks: Iterable[Any],
+    /,
+    *,
+    step: float | None = None,
+    times: Iterable[Any] | None = None,
+    mapping: Sequence[int] = (0, 1),
+    max_gap: float = 300.0,
+    horizon: float = 0.0,
+    process_noise: float = 2.0,
+) -> list[Any]:
+    """Tracks brought to common instants by the engine's own time alignment.
+
+    Stone Soup's track-to-track associators (``TrackToTrackCounting``, ``TrackToTruth``,
+    ``OneToOneTrackAssociator`` with the measures above) compare the states two tracks have at
+    *exactly* the same timestamp; tracks of different sensors almost never share one. This
+    puts every track on one grid of instants with the alignment :func:`geofeas.associate` uses
+    (``geofeas.association.align`` in the core): between two states at most ``max_gap`` apart
+    the centre is interpolated linearly and the covariance is the blend of the two plus the
+    Brownian-bridge term ``process_noise * tau (T - tau) / T``; inside a longer gap a track has
+    no state (it is not bridged); within ``horizon`` seconds before its first / after its last
+    state it is extrapolated.
+
+    Parameters
+    ----------
+    tracks : iterable of stonesoup Track
+        Tracks of Gaussian states (planar positions at ``mapping``).
+    step : float, optional
+        Grid spacing in seconds: the instants are the multiples of ``step`` seconds since the
+        Unix epoch, so tracks aligned in separate calls share instants too.
+    times : iterable of datetime or seconds, optional
+        The instants themselves (instead of ``step``); naive datetimes are UTC.
+    mapping : sequence of 2 ints
+        Indices of x (east, m) and y (north, m) in the state vectors; ``(0, 2)`` for Stone Soup's
+        constant-velocity ``[x, vx, y, vy]``.
+    max_gap, horizon, process_noise
+        The alignment options of :func:`geofeas.associate` (seconds, seconds, m^2/s).
+
+    Returns
+    -------
+    list of stonesoup Track
+        One per input track, in the given order, with the same ``id`` and a copy of its
+        ``metadata``: ``GaussianState`` s with state vector ``[x, y]`` (use ``mapping=(0, 1)``
+        and ``pos_map=[0, 1]`` downstream) at the instants of the grid where the engine gives
+        the track a state (a track with none gets no states).
+    """
+    tracks = list(tracks)
+    if (step is None) == (times is None):
+        raise GeofeasError("align_tracks: give exactly one of `step` and `times`")
+    for n, track in enumerate(tracks):
+        if not isinstance(track, StateMutableSequence):
+            raise GeofeasError(
+                f"argument 'tracks': track {n}: expected a Stone Soup track, got "
+                f"{type(track).__name__}"
+            )
+    ids = [
+        str(t.id) if getattr(t, "id", None) is not None else str(n) for n, t in enumerate(tracks)
+    ]
+    if len(set(ids)) != len(ids):
+        dup = next(i for i in ids if ids.count(i) > 1)
+        raise GeofeasError(f"argument 'tracks': track id {dup!r} is used twice")
+    df = tracks_to_reports(tracks, source="-", mapping=mapping)  # rows track by track, in order
+    dense = np.repeat(np.arange(len(tracks), dtype=np.uint32), [len(t.states) for t in tracks])
+    seconds = df["time"].to_numpy(np.float64)
+    start = 0
+    for n, track in enumerate(tracks):  # the engine takes one state per track and instant
+        t = seconds[start : start + len(track.states)]
+        _, first, count = np.unique(t, return_index=True, return_counts=True)
+        if np.any(count > 1):
+            k = int(first[np.argmax(count > 1)])
+            again = int(np.flatnonzero(t == t[k])[1])
+            raise GeofeasError(
+                f"argument 'tracks': track {ids[n]!r} has states {k} and {again} at the same "
+                f"time {track.states[k].timestamp}"
+            )
+        start += len(track.states)
+    if step is not None:
+        if isinstance(step, bool) or not (
+            isinstance(step, (int, float)) and step > 0 and math.isfinite(step)
+        ):
+            raise GeofeasError(
+                f"argument 'step': must be a finite number of seconds > 0, got {step!r}"
+            )
+        if len(seconds):
+            lo = math.ceil((float(seconds.min()) - horizon) / step)
+            hi = math.floor((float(seconds.max()) + horizon) / step)
+            grid = np.arange(lo, hi + 1, dtype=np.float64) * step
+        else:
+            grid = np.empty(0)
+    else:
+        assert times is not None
+        grid = np.asarray(
+            [_seconds(t, f"argument 'times': element {k}") for k, t in enumerate(times)],
+            dtype=np.float64,
+        )
+        bad = np.flatnonzero(~np.isfinite(grid))
+        if bad.size:
+            raise GeofeasError(f"argument 'times': element {bad[0]} is not finite")
+        grid = np.unique(grid)
+    from ._core import association_states_at
+
+    out = association_states_at(
+        dense,
+        np.zeros(len(dense), dtype=np.uint32),
+        np.ascontiguousarray(seconds),
+        np.ascontiguousarray(df[["x", "y", "rx", "ry", "phi"]].to_numpy(np.float64)),
+        len(tracks),
+        np.ascontiguousarray(grid),
+        geographic=False,
+        max_gap=max_gap,
+        horizon=horizon,
+        process_noise=process_noise,
+    )
+    which = np.asarray(out["track"], dtype=np.int64)
+    index = np.asarray(out["index"], dtype=np.int64)
+    state = np.asarray(out["state"], dtype=np.float64)
+    bounds = np.searchsorted(which, np.arange(len(tracks) + 1))
+    stamps = [_timestamp(float(t)) for t in grid]
+    aligned = []
+    for n, track in enumerate(tracks):
+        rows = range(int(bounds[n]), int(bounds[n + 1]))
+        states = [
+            GaussianState(
+                state[r, :2].reshape(2, 1),
+                np.array([[state[r, 2], state[r, 3]], [state[r, 3], state[r, 4]]]),
+                timestamp=stamps[index[r]],
+            )
+            for r in rows
+        ]
+        meta = dict(getattr(track, "metadata", {}) or {})
+        aligned.append(Track(states, id=ids[n], init_metadata=meta))
+    return aligned
 
 
 def associate(

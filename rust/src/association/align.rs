@@ -145,6 +145,30 @@ pub fn state_at(r: &Reports, track: usize, time: f64, o: &Alignment) -> Option<S
     })
 }
 
+/// The states of track `track` at the instants of `times` (sorted ascending) at which it has
+/// one (see the module docs: inside a gap longer than `max_gap`, or beyond the span plus
+/// `horizon`, it has none), as `(index into times, state)`.
+///
+/// ```
+/// use geofeas::association::align::{states_at, Alignment};
+/// use geofeas::association::{Coords, Reports};
+/// // one track: reports at 0, 10 and 400 s, moving east at 1 m/s
+/// let aou = [[0.0, 0.0, 20.0, 10.0, 0.0], [10.0, 0.0, 20.0, 10.0, 0.0], [400.0, 0.0, 20.0, 10.0, 0.0]];
+/// let r = Reports::new(Coords::Planar, 1, &[0; 3], &[0; 3], &[0.0, 10.0, 400.0], &aou).unwrap();
+/// let got = states_at(&r, 0, &[-5.0, 5.0, 200.0, 400.0], &Alignment::default());
+/// // -5 s is before the span, 200 s inside the 390 s gap (> max_gap = 300 s)
+/// assert_eq!(got.iter().map(|g| g.0).collect::<Vec<_>>(), vec![1, 3]);
+/// assert!((got[0].1.pos[0] - 5.0).abs() < 1e-12);
+/// ```
+pub fn states_at(r: &Reports, track: usize, times: &[f64], o: &Alignment) -> Vec<(usize, State)> {
+    let (s0, s1) = r.span(track);
+    let lo = times.partition_point(|&x| x < s0 - o.horizon);
+    let hi = times.partition_point(|&x| x <= s1 + o.horizon);
+    (lo..hi.max(lo))
+        .filter_map(|k| state_at(r, track, times[k], o).map(|s| (k, s)))
+        .collect()
+}
+
 /// Extrapolation from the end report `e` by `dt` seconds; `prev` is the neighbouring report and
 /// `t_e - t_prev` when the two are close enough to give a velocity.
 fn extrapolate(

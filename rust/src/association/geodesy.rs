@@ -97,6 +97,81 @@ pub fn offset(a: [f64; 2], east_north: [f64; 2]) -> ([f64; 2], f64) {
     ([lat, wrap_lon(lon)], (azi2 - azi1).to_radians())
 }
 
+/// Geographic AOU rows `[lat, lon, rx, ry, bearing]` (degrees WGS84, 2-sigma semi-axes in
+/// metres, bearing of `rx` in degrees clockwise from true north) as planar rows
+/// `[x, y, rx, ry, phi]` in the azimuthal-equidistant frame of `origin` (`[lat, lon]`): `x`
+/// east and `y` north in metres ([`log_map`] from the origin: distance and azimuth from the
+/// origin exact), `phi` in radians clockwise from the frame's north (the bearing carried into
+/// the origin's frame along the geodesic, as the engine carries covariances).
+///
+/// Errors name the row and field: non-finite values, a latitude outside `[-90, 90]`, a longitude
+/// outside `[-180, 180]`, non-positive semi-axes; an invalid origin is row `0` of `origin`.
+///
+/// ```
+/// use geofeas::association::geodesy::project_aeqd;
+/// let p = project_aeqd([50.0, -1.0], &[[50.0, -1.0, 30.0, 10.0, 90.0]]).unwrap();
+/// assert_eq!(p[0][..4], [0.0, 0.0, 30.0, 10.0]);
+/// assert!((p[0][4] - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+/// ```
+pub fn project_aeqd(origin: [f64; 2], rows: &[[f64; 5]]) -> crate::Result<Vec<[f64; 5]>> {
+    use crate::error::Error;
+    fn check(what: &'static str, row: usize, field: &'static str, v: f64) -> crate::Result<()> {
+        let limit = if field == "lat" { 90.0 } else { 180.0 };
+        if !v.is_finite() {
+            return Err(Error::NonFinite {
+                what,
+                row,
+                field,
+                value: v,
+            });
+        }
+        if v.abs() > limit {
+            return Err(Error::OutOfDomain {
+                what,
+                row,
+                field,
+                value: v,
+                reason: if field == "lat" {
+                    "latitude must be in [-90, 90]"
+                } else {
+                    "longitude must be in [-180, 180]"
+                },
+            });
+        }
+        Ok(())
+    }
+    check("origin", 0, "lat", origin[0]).map_err(|e| e.in_argument("origin"))?;
+    check("origin", 0, "lon", origin[1]).map_err(|e| e.in_argument("origin"))?;
+    let mut out = Vec::with_capacity(rows.len());
+    for (row, &[lat, lon, rx, ry, bearing]) in rows.iter().enumerate() {
+        check("report", row, "lat", lat)?;
+        check("report", row, "lon", lon)?;
+        for (field, value) in [("rx", rx), ("ry", ry), ("bearing", bearing)] {
+            if !value.is_finite() {
+                return Err(Error::NonFinite {
+                    what: "report",
+                    row,
+                    field,
+                    value,
+                });
+            }
+        }
+        for (field, value) in [("rx", rx), ("ry", ry)] {
+            if value <= 0.0 {
+                return Err(Error::NonPositive {
+                    what: "report",
+                    row,
+                    field,
+                    value,
+                });
+            }
+        }
+        let (xy, rot) = log_map(origin, [lat, lon]);
+        out.push([xy[0], xy[1], rx, ry, bearing.to_radians() + rot]);
+    }
+    Ok(out)
+}
+
 /// WGS84 Earth-centred Earth-fixed coordinates (m) of a point at height 0.
 pub fn ecef(lat: f64, lon: f64) -> [f64; 3] {
     let e2 = WGS84_F * (2.0 - WGS84_F);

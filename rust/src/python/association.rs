@@ -414,6 +414,101 @@ fn association_pair_instants<'py>(
     Ok(d)
 }
 
+/// The states of every track at the sorted instants `times` at which the engine's alignment
+/// gives it one (`crate::association::align::states_at`): arrays `track` (dense id), `index`
+/// (into `times`) and `state` `(m, 5)` rows `pos0, pos1, cov_xx, cov_xy, cov_yy`, track by
+/// track in time order.
+#[pyfunction]
+#[pyo3(signature = (track, source, time, aou, n_tracks, times, *, geographic, max_gap=300.0,
+    horizon=0.0, process_noise=2.0))]
+#[allow(clippy::too_many_arguments)]
+fn association_states_at<'py>(
+    py: Python<'py>,
+    track: PyReadonlyArray1<'py, u32>,
+    source: PyReadonlyArray1<'py, u32>,
+    time: PyReadonlyArray1<'py, f64>,
+    aou: PyReadonlyArray2<'py, f64>,
+    n_tracks: usize,
+    times: PyReadonlyArray1<'py, f64>,
+    geographic: bool,
+    max_gap: f64,
+    horizon: f64,
+    process_noise: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let r = reports(&track, &source, &time, &aou, n_tracks, geographic)?;
+    let align = Alignment {
+        max_gap,
+        horizon,
+        process_noise,
+    }
+    .validated()?;
+    let grid = slice("times", &times)?;
+    if let Some(k) = grid.iter().position(|t| !t.is_finite()) {
+        return Err(Error::NonFinite {
+            what: "times",
+            row: k,
+            field: "time",
+            value: grid[k],
+        }
+        .in_argument("times")
+        .into());
+    }
+    if let Some(k) = grid.windows(2).position(|w| w[0] >= w[1]) {
+        return Err(Error::Invalid(format!(
+            "argument 'times': must be strictly increasing, got {} then {} at index {}",
+            grid[k],
+            grid[k + 1],
+            k + 1
+        ))
+        .into());
+    }
+    let per_track: Vec<Vec<(usize, association::State)>> = py.detach(|| {
+        use rayon::prelude::*;
+        (0..n_tracks)
+            .into_par_iter()
+            .map(|t| association::align::states_at(&r, t, grid, &align))
+            .collect()
+    });
+    let m: usize = per_track.iter().map(Vec::len).sum();
+    let (mut tr, mut ix, mut st) = (
+        Vec::with_capacity(m),
+        Vec::with_capacity(m),
+        Vec::with_capacity(5 * m),
+    );
+    for (t, states) in per_track.iter().enumerate() {
+        for (k, s) in states {
+            tr.push(t as u32);
+            ix.push(*k as u64);
+            st.extend_from_slice(&[s.pos[0], s.pos[1], s.cov[0], s.cov[1], s.cov[2]]);
+        }
+    }
+    let d = PyDict::new(py);
+    d.set_item("track", tr.into_pyarray(py))?;
+    d.set_item("index", ix.into_pyarray(py))?;
+    d.set_item("state", st.into_pyarray(py).reshape([m, 5])?)?;
+    Ok(d)
+}
+
+/// Geographic AOU rows `(n, 5)` `lat, lon, rx, ry, bearing` (degrees, metres, degrees clockwise
+/// from north) as planar rows `x, y, rx, ry, phi` in the azimuthal-equidistant frame of
+/// `origin = (lat, lon)` (`crate::association::geodesy::project_aeqd`).
+#[pyfunction]
+#[pyo3(signature = (aou, origin))]
+fn project_aeqd<'py>(
+    py: Python<'py>,
+    aou: PyReadonlyArray2<'py, f64>,
+    origin: (f64, f64),
+) -> PyResult<Bound<'py, PyAny>> {
+    let rows = rows5(&aou)?;
+    let n = rows.len();
+    let out = detached(py, || {
+        association::geodesy::project_aeqd([origin.0, origin.1], &rows)
+            .map_err(|e| e.in_argument("reports"))
+    })?;
+    let flat: Vec<f64> = out.into_iter().flatten().collect();
+    Ok(flat.into_pyarray(py).reshape([n, 5])?.into_any())
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(associate, m)?)?;
     m.add_function(wrap_pyfunction!(association_candidates, m)?)?;
@@ -421,5 +516,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(assign_one_to_one, m)?)?;
     m.add_function(wrap_pyfunction!(association_default_upper, m)?)?;
     m.add_function(wrap_pyfunction!(association_pair_instants, m)?)?;
+    m.add_function(wrap_pyfunction!(association_states_at, m)?)?;
+    m.add_function(wrap_pyfunction!(project_aeqd, m)?)?;
     Ok(())
 }
