@@ -969,10 +969,14 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
     }
 }
 
+/// Most pairs a review value looks at beyond those sharing a track with the pair.
+const NEAR_BUDGET: usize = 256;
+
 /// The review value of every pair of a component: the expected reduction of the undecided mass
-/// `U = sum_q min(p_q, 1 - p_q)` over the other pairs `q` of the component that share a track
-/// with it or with a pair sharing a track with it, from deciding it (`p` "same", `1 - p`
-/// "different"); and how many of those pairs each answer takes out of `(p_reject, p_match)`.
+/// `U = sum_q min(p_q, 1 - p_q)` over the other undecided pairs `q` of the component that share
+/// a track with it or (up to [`NEAR_BUDGET`] of them) with a pair sharing a track with it, from
+/// deciding it (`p` "same", `1 - p` "different"); and how many of those pairs each answer takes
+/// out of `(p_reject, p_match)`.
 fn review_gain(
     comp: &Component,
     m: &Marginals,
@@ -998,19 +1002,30 @@ fn review_gain(
         .par_iter()
         .map(|&i| {
             let (_, a, b) = comp.pairs[i];
-            // neighbourhood: pairs sharing a track with i, and their neighbours' pairs
-            let mut near: Vec<usize> = Vec::new();
-            for t in [a, b] {
-                for &q in &by_track[t as usize] {
-                    let (_, qa, qb) = comp.pairs[q];
-                    for u in [qa, qb] {
-                        near.extend(by_track[u as usize].iter().copied());
-                    }
-                }
-            }
+            // neighbourhood: the undecided pairs sharing a track with i, then those sharing a
+            // track with one of them while the neighbourhood stays within NEAR_BUDGET (the
+            // cost is neighbourhood x samples per pair: an HF DF fix with 300 candidates would
+            // otherwise look at tens of thousands of pairs for every one of its own)
+            let undecided_of = |t: u32| {
+                by_track[t as usize]
+                    .iter()
+                    .copied()
+                    .filter(|&q| q != i && undecided(m.p_pair[q]))
+            };
+            let mut near: Vec<usize> = undecided_of(a).chain(undecided_of(b)).collect();
             near.sort_unstable();
             near.dedup();
-            near.retain(|&q| q != i && undecided(m.p_pair[q]));
+            let first = near.clone();
+            for &q in &first {
+                let (_, qa, qb) = comp.pairs[q];
+                let more: Vec<usize> = undecided_of(qa).chain(undecided_of(qb)).collect();
+                if near.len() + more.len() > NEAR_BUDGET {
+                    break;
+                }
+                near.extend(more);
+                near.sort_unstable();
+                near.dedup();
+            }
             let mut w_same = 0.0;
             let mut joint = vec![0.0; near.len()];
             let mut marg = vec![0.0; near.len()];
