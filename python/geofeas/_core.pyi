@@ -13,9 +13,10 @@ __all__ = [
     "association_candidates",
     "association_default_upper",
     "association_finish",
-    "association_time_cover",
+    "association_pair_instants",
     "association_pair_stats",
-    "association_picture_counts",
+    "association_states_at",
+    "association_track_summary",
     "combine_instants",
     "from_gaussian",
     "intersection_area",
@@ -33,6 +34,7 @@ __all__ = [
     "pf_study",
     "pf_track",
     "polygon_error_bound",
+    "project_aeqd",
     "score_cdist",
     "score_pairs",
     "to_gaussian",
@@ -352,7 +354,7 @@ def association_pair_stats(
     options: dict[str, Any],
     stream_ids: NDArray[np.uint32] | None = None,
 ) -> dict[str, NDArray[Any]]: ...
-def association_picture_counts(
+def association_track_summary(
     track: NDArray[np.uint32],
     source: NDArray[np.uint32],
     time: NDArray[np.float64],
@@ -361,17 +363,7 @@ def association_picture_counts(
     *,
     geographic: bool,
     options: dict[str, Any],
-) -> dict[str, Any]: ...
-def association_time_cover(
-    track: NDArray[np.uint32],
-    source: NDArray[np.uint32],
-    time: NDArray[np.float64],
-    aou: NDArray[np.float64],
-    n_tracks: int,
-    *,
-    geographic: bool,
-    options: dict[str, Any],
-) -> dict[str, Any]: ...
+) -> tuple[dict[str, Any], dict[str, Any]]: ...
 def association_finish(
     source: NDArray[np.uint32],
     spread: NDArray[np.float64],

@@ -466,7 +466,7 @@ def _home_counts(
     """The engine's picture counts of the tracks of ``rep`` whose home tile this is (each track
     has exactly one, so the counts of all tiles add up to the whole picture's), with sources
     as their indices among all the picture's sources; and the engine's time cover of those
-    tracks (``association_time_cover``) with their global indices (``track``)."""
+    tracks (``association_track_summary``) with their global indices (``track``)."""
     keep = home[rep.track]
     if not keep.any():
         return None
@@ -478,8 +478,8 @@ def _home_counts(
         np.ascontiguousarray(rep.aou[keep]),
         len(tracks),
     )
-    counts = _core.association_picture_counts(*args, geographic=geographic, options=options)
-    cover = dict(_core.association_time_cover(*args, geographic=geographic, options=options))
+    counts, cover = _core.association_track_summary(*args, geographic=geographic, options=options)
+    cover = dict(cover)
     cover["track"] = gid[tracks]
     # the tile numbers sources among those it holds; their values are the picture's indices
     glob = np.asarray(rep.sources, dtype=np.int64)
@@ -501,10 +501,11 @@ def _time_cover(pieces: list[dict[str, Any]], n_tracks: int) -> dict[str, NDArra
     end = np.concatenate([np.asarray(p["cover_end"], np.float64) for p in pieces])
     first = np.cumsum(lengths) - lengths
     order = np.argsort(track, kind="stable")
-    rows = np.concatenate(
-        [np.arange(first[k], first[k] + lengths[k]) for k in order] or [np.zeros(0, np.int64)]
-    ).astype(np.intp)
-    offsets = np.r_[0, np.cumsum(lengths[order])].astype(np.uint32)
+    # the chains of the tracks in global order: each track's run of rows, one after another
+    n = lengths[order]
+    offsets = np.r_[0, np.cumsum(n)]
+    rows = (np.repeat(first[order] - offsets[:-1], n) + np.arange(offsets[-1])).astype(np.intp)
+    offsets = offsets.astype(np.uint32)
     return {"cover_offsets": offsets, "cover_start": start[rows], "cover_end": end[rows]}
 
 

@@ -182,17 +182,13 @@ pub(super) fn result_dict<'py>(
     d.set_item("component_partitions", comp_parts.into_pyarray(py))?;
     d.set_item("component_method", comp_method.into_pyarray(py))?;
     d.set_item("component_std_error", comp_err.into_pyarray(py))?;
-    let col = |f: fn(&association::posterior::Track) -> f64| {
-        res.tracks.iter().map(f).collect::<Vec<f64>>()
-    };
     let source: Vec<u32> = res.tracks.iter().map(|t| t.source).collect();
+    let spread: Vec<f64> = res.tracks.iter().map(|t| t.spread).collect();
     d.set_item("track_source", source.into_pyarray(py))?;
-    d.set_item("track_start", col(|t| t.start).into_pyarray(py))?;
-    d.set_item("track_end", col(|t| t.end).into_pyarray(py))?;
-    d.set_item("track_spread", col(|t| t.spread).into_pyarray(py))?;
+    d.set_item("track_spread", spread.into_pyarray(py))?;
     d.set_item(
         "time_cover",
-        super::fusion::time_cover_dict(py, &res.time_cover)?,
+        super::fusion::time_cover_dict(py, res.time_cover)?,
     )?;
     d.set_item("stats", super::fusion::stats_dict(py, &res.stats)?)?;
     d.set_item("counts", super::fusion::counts_dict(py, &res.counts)?)?;

@@ -96,34 +96,15 @@ pub(super) fn stats_dict<'py>(py: Python<'py>, out: &[PairStat]) -> PyResult<Bou
     Ok(d)
 }
 
-/// The picture counts of a partition holding whole tracks: per-source track-microseconds
-/// (`micros`), the occupied cells `(cell_source, cell_row, cell_col, cell_micros)` and the time
-/// range (`time`).
-#[pyfunction]
-#[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic, options))]
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
-fn association_picture_counts<'py>(
-    py: Python<'py>,
-    track: PyReadonlyArray1<'py, u32>,
-    source: PyReadonlyArray1<'py, u32>,
-    time: PyReadonlyArray1<'py, f64>,
-    aou: PyReadonlyArray2<'py, f64>,
-    n_tracks: usize,
-    geographic: bool,
-    options: AssociationArgs,
-) -> PyResult<Bound<'py, PyDict>> {
-    let r = super::association::reports(&track, &source, &time, &aou, n_tracks, geographic)?;
-    let o = options.options()?;
-    let c = py.detach(|| Counts::of(&r, o.model.cell, o.align.max_gap));
-    counts_dict(py, &c)
-}
-
-/// When each track of a partition holding whole tracks has a state (`align::TimeCover`): a dict
-/// of `cover_offsets` (one more than tracks), `cover_start` and `cover_end` (one per chain).
+/// What the global step needs of the tracks of a partition holding whole tracks, from one
+/// reading of their reports: the picture counts (a dict: per-source track-microseconds `micros`,
+/// the occupied cells `cell_source, cell_row, cell_col, cell_micros` and the time range `time`)
+/// and when each track has a state (`align::TimeCover`: a dict of `cover_offsets`, one more than
+/// tracks, and `cover_start`, `cover_end`, one per chain).
 #[pyfunction]
 #[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic, options))]
 #[allow(clippy::too_many_arguments)]
-fn association_time_cover<'py>(
+fn association_track_summary<'py>(
     py: Python<'py>,
     track: PyReadonlyArray1<'py, u32>,
     source: PyReadonlyArray1<'py, u32>,
@@ -132,16 +113,21 @@ fn association_time_cover<'py>(
     n_tracks: usize,
     geographic: bool,
     options: AssociationArgs,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<(Bound<'py, PyDict>, Bound<'py, PyDict>)> {
     let r = super::association::reports(&track, &source, &time, &aou, n_tracks, geographic)?;
     let o = options.options()?;
-    let c = py.detach(|| TimeCover::of(&r, &o.align));
-    time_cover_dict(py, &c)
+    let (counts, cover) = py.detach(|| {
+        (
+            Counts::of(&r, o.model.cell, o.align.max_gap),
+            TimeCover::of(&r, &o.align),
+        )
+    });
+    Ok((counts_dict(py, &counts)?, time_cover_dict(py, cover)?))
 }
 
-pub(super) fn time_cover_dict<'py>(py: Python<'py>, c: &TimeCover) -> PyResult<Bound<'py, PyDict>> {
+pub(super) fn time_cover_dict<'py>(py: Python<'py>, c: TimeCover) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    d.set_item("cover_offsets", c.offsets.clone().into_pyarray(py))?;
+    d.set_item("cover_offsets", c.offsets.into_pyarray(py))?;
     let (s, e): (Vec<f64>, Vec<f64>) = c.spans.iter().map(|x| (x[0], x[1])).unzip();
     d.set_item("cover_start", s.into_pyarray(py))?;
     d.set_item("cover_end", e.into_pyarray(py))?;
@@ -166,9 +152,9 @@ pub(super) fn counts_dict<'py>(py: Python<'py>, c: &Counts) -> PyResult<Bound<'p
 /// The global step of `associate` on gathered pairs `(a, b)` (sorted, `a < b`, each with at
 /// least one instant) with their summaries `stats` (as `association_pair_stats` returns them),
 /// the tracks' `source` and `spread`, their coverage (`cover_offsets`, `cover_start`,
-/// `cover_end`: the chains of every track, as `association_time_cover` returns them), the picture
+/// `cover_end`: the chains of every track, as `association_track_summary` returns them), the picture
 /// `counts` of parts that together
-/// hold every track once (a list of what `association_picture_counts` returns; merged here) and
+/// hold every track once (a list of the counts `association_track_summary` returns; merged here) and
 /// operator decisions. Returns the same dict as `associate`.
 #[pyfunction]
 #[pyo3(signature = (source, spread, cover_offsets, cover_start, cover_end, a, b, stats, counts,
@@ -336,8 +322,7 @@ fn counts_of(k: usize, d: &Bound<'_, PyDict>, geographic: bool, cell: f64) -> Py
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(association_pair_stats, m)?)?;
-    m.add_function(wrap_pyfunction!(association_picture_counts, m)?)?;
     m.add_function(wrap_pyfunction!(association_finish, m)?)?;
-    m.add_function(wrap_pyfunction!(association_time_cover, m)?)?;
+    m.add_function(wrap_pyfunction!(association_track_summary, m)?)?;
     Ok(())
 }
