@@ -256,18 +256,35 @@ pub fn chi2_pvalue(sum_m: f64, k: f64, k_eff: f64) -> f64 {
 
 /// `k^2 / sum_ij exp(-2 |t_i - t_j| / tau)` for sorted `times`; `k` when `tau` is 0.
 pub fn effective_instants(times: &[f64], tau: f64) -> f64 {
-    let k = times.len() as f64;
-    if tau <= 0.0 || times.len() < 2 {
-        return k;
+    if tau <= 0.0 {
+        return times.len() as f64;
     }
-    // sum_{i<j} rho_ij by the recursion S_j = exp(-2 (t_j - t_{j-1}) / tau) (S_{j-1} + 1)
-    let mut s = 0.0;
-    let mut total = 0.0;
-    for w in times.windows(2) {
-        s = (-2.0 * (w[1] - w[0]) / tau).exp() * (s + 1.0);
+    effective_count(times.iter().copied(), times.len(), tau)
+}
+
+/// `k^2 / sum_ij rho_ij` over `k` non-decreasing error times `xs`: `rho = 1` between equal times
+/// (one report's error), `exp(-2 |dt| / tau)` otherwise (0 when `tau` is 0), clamped to
+/// `[1, k]`.
+fn effective_count(mut xs: impl Iterator<Item = f64>, k: usize, tau: f64) -> f64 {
+    let kf = k as f64;
+    let Some(mut prev) = xs.next() else {
+        return kf;
+    };
+    // sum_{i<j} rho_ij by the recursion S_j = rho_{j-1,j} (S_{j-1} + 1)
+    let (mut s, mut total) = (0.0f64, 0.0f64);
+    for x in xs {
+        let rho = if x == prev {
+            1.0
+        } else if tau > 0.0 {
+            (-2.0 * (x - prev) / tau).exp()
+        } else {
+            0.0
+        };
+        s = rho * (s + 1.0);
         total += s;
+        prev = x;
     }
-    (k * k / (k + 2.0 * total)).clamp(1.0, k)
+    (kf * kf / (kf + 2.0 * total)).clamp(1.0, kf)
 }
 
 /// The effective number of independent instants of a track pair (`docs/association.md`, "The
@@ -288,13 +305,17 @@ pub fn pair_effective_instants(
     share_a: f64,
     tau: f64,
 ) -> f64 {
-    let k = times.len() as f64;
-    if times.len() < 2 {
-        return k;
+    let k = times.len();
+    if k < 2 {
+        return k as f64;
     }
+    // each instant's nearest report (ties to the earlier), walking both sorted lists once
     let count = |reports: &[f64]| {
-        let snap = |t: f64| {
-            let j = reports.partition_point(|&x| x < t);
+        let mut j = 0;
+        let snapped = times.iter().map(move |&t| {
+            while j < reports.len() && reports[j] < t {
+                j += 1;
+            }
             match (j.checked_sub(1).map(|i| reports[i]), reports.get(j)) {
                 (Some(lo), Some(&hi)) => {
                     if t - lo <= hi - t {
@@ -307,23 +328,8 @@ pub fn pair_effective_instants(
                 (None, Some(&hi)) => hi,
                 (None, None) => t,
             }
-        };
-        // sum_ij rho_ij over the snapped times (non-decreasing), equal times fully correlated
-        let (mut s, mut total, mut prev) = (0.0f64, 0.0f64, snap(times[0]));
-        for &t in &times[1..] {
-            let x = snap(t);
-            let rho = if x == prev {
-                1.0
-            } else if tau > 0.0 {
-                (-2.0 * (x - prev) / tau).exp()
-            } else {
-                0.0
-            };
-            s = rho * (s + 1.0);
-            total += s;
-            prev = x;
-        }
-        (k * k / (k + 2.0 * total)).clamp(1.0, k)
+        });
+        effective_count(snapped, k, tau)
     };
     let w = if share_a.is_finite() {
         share_a.clamp(0.0, 1.0)
@@ -331,7 +337,7 @@ pub fn pair_effective_instants(
         0.5
     };
     let (ka, kb) = (count(reports_a), count(reports_b));
-    (1.0 / (w / ka + (1.0 - w) / kb)).clamp(1.0, k)
+    (1.0 / (w / ka + (1.0 - w) / kb)).clamp(1.0, k as f64)
 }
 
 #[cfg(test)]

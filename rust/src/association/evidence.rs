@@ -12,14 +12,18 @@
 //! own motion puts it, a density whose expected log is `h_t = -1 - ln(2 pi sqrt(det(S_t + Q)))`
 //! with `Q = 2 q tau I` the spread of straight-line motion over one correlation time (`q` the
 //! process noise, `tau` the correlation time). With `k` instants worth `k_eff` independent ones
-//! ([`crate::association::combine::effective_instants`]) and means over the instants,
+//! ([`crate::association::combine::pair_effective_instants`]) and means over the instants,
 //!
-//! `L = (mean l - ln mu) + (k_eff - 1) (mean l - mean h) + ln kappa + ln(1 - f_a) + ln(1 - f_b)`
+//! `L = (mean l - ln mu) + (k_eff - 1) (mean l - mean h) + ln kappa + ln(1 - F_a) + ln(1 - F_b)`
 //!
 //! where `kappa = 1 / prod_s (1 - P_s)` is the prior odds of one merge under independent
 //! per-source coverage `P_s` (an object of a Poisson picture seen by every source with its own
-//! probability), and `f_s` is the fraction of source `s`'s tracks that are false (a false track
-//! has no partner).
+//! probability), and `F_s` is the probability that a track of source `s` is false were it
+//! alone ([`Picture::ln_not_false`]): a lone track is an object no other source sees (density
+//! `mu P_s prod_{s' != s} (1 - P_s')`) or a false track (density `phi_s`, from the share `f_s`
+//! of the source's tracks that are false, spread over the picture at its mean density), so
+//! `F_s = r / (r + (mu / mu_bar) prod_{s' != s} (1 - P_s'))` with `r = f_s / (1 - f_s)`. The
+//! posterior counts each track's `ln(1 - F)` once per object ([`PairEvidence::own`]).
 //!
 //! **Estimates from the picture.** `mu` is the time-averaged number of tracks of the most
 //! complete source (the one with the most track-seconds) per area, on a grid of
