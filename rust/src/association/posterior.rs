@@ -1355,11 +1355,22 @@ mod tests {
     }
 
     fn exact(tracks: &[Track], pairs: &[(u32, u32)], llr: &[f64], dec: &[Decision]) -> Posterior {
+        with_evidence(tracks, &whole(tracks), pairs, &own(llr), dec)
+    }
+
+    /// The posterior with the default inference.
+    fn with_evidence(
+        tracks: &[Track],
+        cover: &TimeCover,
+        pairs: &[(u32, u32)],
+        evidence: &[PairEvidence],
+        dec: &[Decision],
+    ) -> Posterior {
         posterior(
             tracks,
-            &whole(tracks),
+            cover,
             pairs,
-            &own(llr),
+            evidence,
             dec,
             &Inference::default(),
             (0.01, 0.99),
@@ -1407,18 +1418,7 @@ mod tests {
         )
         .unwrap();
         let (pairs, llr) = ([(0, 1), (0, 2)], [2.0_f64, 5.0]);
-        let run = |cover: &TimeCover| {
-            posterior(
-                &tracks,
-                cover,
-                &pairs,
-                &own(&llr),
-                &[],
-                &Inference::default(),
-                (0.01, 0.99),
-            )
-            .unwrap()
-        };
+        let run = |cover: &TimeCover| with_evidence(&tracks, cover, &pairs, &own(&llr), &[]);
         let p = run(&cover);
         // {0}{1}{2}, {0 1}{2}, {0 2}{1}, {0 1 2} (the tree joins 1 and 2 to 0)
         let z = 1.0 + 2f64.exp() + 5f64.exp() + 7f64.exp();
@@ -1452,16 +1452,7 @@ mod tests {
                 own: (-0.5, -2.0),
             },
         ];
-        let p = posterior(
-            &tracks,
-            &whole(&tracks),
-            &pairs,
-            &own,
-            &[],
-            &Inference::default(),
-            (0.01, 0.99),
-        )
-        .unwrap();
+        let p = with_evidence(&tracks, &whole(&tracks), &pairs, &own, &[]);
         // {0 1 2}: 3 + (4 - (-0.5)) = 7.5, track 0's term once
         let w = [1.0, 3f64.exp(), 4f64.exp(), 7.5f64.exp()];
         let z: f64 = w.iter().sum();
