@@ -294,16 +294,6 @@ impl TimeCover {
         }
     }
 
-    /// One interval per track from `start` to `end` (tracks reported without long gaps).
-    pub fn whole(spans: impl IntoIterator<Item = (f64, f64)>, horizon: f64) -> Self {
-        let spans: Vec<[f64; 2]> = spans.into_iter().map(|(a, b)| [a, b]).collect();
-        Self {
-            offsets: (0..=spans.len() as u32).collect(),
-            spans,
-            horizon,
-        }
-    }
-
     /// A coverage given as arrays (from another process), checked: `offsets` start at 0, never
     /// decrease and end at `spans.len()`, and every track's intervals are finite, ordered and
     /// disjoint.

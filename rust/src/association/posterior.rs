@@ -1256,7 +1256,9 @@ mod tests {
     }
 
     fn whole(tracks: &[Track]) -> TimeCover {
-        TimeCover::whole(tracks.iter().map(|t| (t.start, t.end)), 0.0)
+        // one chain per track over its whole span
+        let spans = tracks.iter().map(|t| [t.start, t.end]).collect();
+        TimeCover::from_parts((0..=tracks.len() as u32).collect(), spans, 0.0).unwrap()
     }
 
     #[test]
