@@ -16,6 +16,8 @@ __all__ = [
     "association_pair_instants",
     "association_pair_stats",
     "association_states_at",
+    "association_track_boxes",
+    "association_track_partials",
     "association_track_summary",
     "combine_instants",
     "from_gaussian",
@@ -364,6 +366,24 @@ def association_track_summary(
     geographic: bool,
     options: dict[str, Any],
 ) -> tuple[dict[str, Any], dict[str, Any]]: ...
+def association_track_partials(
+    track: NDArray[np.uint32],
+    source: NDArray[np.uint32],
+    time: NDArray[np.float64],
+    aou: NDArray[np.float64],
+    n_tracks: int,
+    *,
+    geographic: bool,
+) -> NDArray[np.float64]: ...
+def association_track_boxes(
+    partials: NDArray[np.float64],
+    track: NDArray[np.uint32],
+    n_tracks: int,
+    *,
+    geographic: bool,
+    alignment: dict[str, float],
+    halo: float = 0.0,
+) -> dict[str, NDArray[Any]]: ...
 def association_finish(
     source: NDArray[np.uint32],
     spread: NDArray[np.float64],

@@ -10,15 +10,15 @@ whatever Dask scheduler is active (a ``distributed.Client`` if one exists).
 How it is cut up (the argument in full is in ``docs/fusion-stacks.md``):
 
 1. every partition is read by :func:`geofeas.read_reports` (errors name the caller's row) and
-   reduced to per-track partial aggregates — count, time span, extent of the report centres
-   (planar ``x, y``, or WGS84 ECEF metres for ``lat, lon``), largest 2-sigma semi-axis, first
-   and last two reports — which combine over any split of a track's reports, so the reports are
-   not shuffled for this. Each track gets a closed space-time box (:func:`track_boxes`): that
-   extent grown by a **halo** bounding every box the engine's candidate index can give any
-   chunk of the track — the largest semi-axis, the Brownian-bridge term ``sqrt(q T)`` of an
-   interpolated gap ``T <= min(max_gap, span)``, the extrapolation ``|v| h + 2 sqrt(q h)`` at
-   the ends when ``horizon = h > 0``, the geodesic sagitta in geographic mode — and by ``h`` in
-   time. Two tracks can only be a candidate pair when their boxes intersect;
+   reduced by the engine to per-track partials (``association_track_partials``: count, time
+   span, extent of the report centres in the index space — planar ``x, y``, WGS84 ECEF metres
+   for ``lat, lon`` —, largest 2-sigma semi-axis, first and last two reports), which merge over
+   any split of a track's reports, so the reports are not shuffled for this. The engine merges
+   them and gives each track a closed space-time box (``association_track_boxes``,
+   :func:`track_boxes`): that extent grown by a **halo** bounding every box its candidate index
+   can give any chunk of the track, with the very growth functions of the index (the property
+   test ``merged_partials_of_any_split_hold_every_chunk_box``) — and by ``h`` in time. Two
+   tracks can only be a candidate pair when their boxes intersect;
 2. the picture is a grid of space-time tiles; every report is copied into each tile its track's
    box meets (ids and sources replaced by their indices among the sorted ids, times by seconds:
    numbers only), in one shuffle; each tile then holds whole tracks and finds its candidate
@@ -76,11 +76,6 @@ except ImportError as exc:  # pragma: no cover - exercised by test_missing_dask
 
 __all__ = ["associate", "track_boxes"]
 
-#: WGS84 semi-major axis and flattening (the engine's geodesy constants).
-_WGS84_A = 6_378_137.0
-_WGS84_F = 1.0 / 298.257_223_563
-#: The smallest radius of curvature of the WGS84 ellipsoid, b^2 / a (m).
-_MIN_CURVATURE_RADIUS = _WGS84_A * (1.0 - _WGS84_F) ** 2
 _REQUIRED = ("track_id", "source", "time")
 #: Digits of the zero-padded global track and source indices handed to the engine per tile.
 _ID_DIGITS = 19
@@ -113,15 +108,6 @@ def _columns(frame_columns: Any, coords: str) -> tuple[str, tuple[str, ...]]:
     return coords, _REQUIRED + aou
 
 
-def _ecef(lat: NDArray[np.float64], lon: NDArray[np.float64]) -> NDArray[np.float64]:
-    """WGS84 Earth-centred Earth-fixed coordinates (m) at height 0."""
-    e2 = _WGS84_F * (2.0 - _WGS84_F)
-    sp, cp = np.sin(np.radians(lat)), np.cos(np.radians(lat))
-    sl, cl = np.sin(np.radians(lon)), np.cos(np.radians(lon))
-    n = _WGS84_A / np.sqrt(1.0 - e2 * sp * sp)
-    return np.column_stack([n * cp * cl, n * cp * sl, n * (1.0 - e2) * sp])
-
-
 def _global_rows(exc: GeofeasError, rows: NDArray[np.int64]) -> GeofeasError:
     """The engine's error with its partition-local row numbers replaced by the caller's."""
 
@@ -136,53 +122,20 @@ def _global_rows(exc: GeofeasError, rows: NDArray[np.int64]) -> GeofeasError:
     return err
 
 
-def _partials(rep: Reports) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Per-track aggregates of some of a track's reports, and its first and last two reports.
-
-    Both combine over any split of the reports (:func:`_combine`), so the tracks' boxes need no
-    shuffle of the reports.
-    """
-    n = len(rep)
-    geo = rep.coords == "geographic"
-    p = _ecef(rep.aou[:, 0], rep.aou[:, 1]) if geo else rep.aou[:, :2]
-    d = p.shape[1]
-    order = np.lexsort((rep.time, rep.track))
-    c = rep.track[order].astype(np.int64)
-    first = np.flatnonzero(np.r_[True, c[1:] != c[:-1]]) if n else np.zeros(0, np.int64)
-    last = np.r_[first[1:] - 1, n - 1] if n else np.zeros(0, np.int64)
-    ps, ts = p[order], rep.time[order]
-    r = np.maximum(rep.aou[order, 2], rep.aou[order, 3])
-    area = rep.aou[order, 2] * rep.aou[order, 3]
-    agg: dict[str, Any] = {
-        "track_id": rep.track_ids[c[first]] if n else rep.track_ids[:0],
-        "source": rep.sources[rep.source[order][first]] if n else rep.sources[:0],
-        "reports": (last - first + 1).astype(np.int64),
-        "tmin": ts[first],
-        "tmax": ts[last],
-        "rmax": np.maximum.reduceat(r, first) if n else np.zeros(0),
-        # the extremes of rx * ry: the engine's typical AOU size of the track (merge order)
-        "amin": np.minimum.reduceat(area, first) if n else np.zeros(0),
-        "amax": np.maximum.reduceat(area, first) if n else np.zeros(0),
-    }
-    for k in range(d):
-        agg[f"pmin{k}"] = np.minimum.reduceat(ps[:, k], first) if n else np.zeros(0)
-        agg[f"pmax{k}"] = np.maximum.reduceat(ps[:, k], first) if n else np.zeros(0)
-    # first two and last two reports of each track (by time)
-    pos = np.arange(n) - np.repeat(first, last - first + 1) if n else np.zeros(0, np.int64)
-    back = np.repeat(last, last - first + 1) - np.arange(n) if n else np.zeros(0, np.int64)
-    end = np.flatnonzero((pos < 2) | (back < 2))
-    ends: dict[str, Any] = {"track_id": rep.track_ids[c[end]], "t": ts[end]}
-    for k in range(d):
-        ends[f"p{k}"] = ps[end, k]
-    names = PLANAR if rep.coords == "planar" else GEOGRAPHIC
-    for k, name in enumerate(names):
-        ends[name] = rep.aou[order[end], k]
-    return pd.DataFrame(agg), pd.DataFrame(ends)
+def _partials(rep: Reports) -> tuple[NDArray[Any], NDArray[Any], NDArray[np.float64]]:
+    """The engine's mergeable partial of every track of some of the reports
+    (``association_track_partials``), with the tracks' ids and sources: merged over any split
+    of the reports by :func:`_combine`, so the tracks' boxes need no shuffle of the reports."""
+    first = np.zeros(rep.n_tracks, np.int64)
+    first[rep.track[::-1]] = np.arange(len(rep) - 1, -1, -1)  # each track's first row
+    partial = _core.association_track_partials(
+        *rep._core_args(), geographic=rep.coords == "geographic"
+    )
+    return rep.track_ids, rep.sources[rep.source[first]], partial
 
 
 def _combine(
-    aggs: list[pd.DataFrame],
-    ends: list[pd.DataFrame],
+    parts: list[tuple[NDArray[Any], NDArray[Any], NDArray[np.float64]]],
     coords: str,
     *,
     max_gap: float,
@@ -190,97 +143,44 @@ def _combine(
     process_noise: float,
     halo: float,
 ) -> pd.DataFrame:
-    """The track table, sorted by track id as the engine numbers tracks (see module docs)."""
-    geo = coords == "geographic"
-    d = 3 if geo else 2
-    q, h, big_r = float(process_noise), float(horizon), _MIN_CURVATURE_RADIUS
-    agg = pd.concat(aggs, ignore_index=True)
-    how = {
-        "reports": "sum",
-        "tmin": "min",
-        "tmax": "max",
-        "rmax": "max",
-        "amin": "min",
-        "amax": "max",
-        "source": "first",
-    }
-    for k in range(d):
-        how[f"pmin{k}"] = "min"
-        how[f"pmax{k}"] = "max"
-    tr = agg.groupby("track_id", sort=False).agg(how)
+    """The track table, sorted by track id as the engine numbers tracks: the partials merged
+    and the halo boxes computed by the engine (``association_track_boxes``)."""
+    ids = np.concatenate([p[0] for p in parts]) if parts else np.zeros(0, object)
     try:
-        ids, inverse = np.unique(tr.index.to_numpy(), return_inverse=True)
+        track_ids, inverse = np.unique(ids, return_inverse=True)
     except TypeError:
         raise GeofeasError(
             "column track_id: ids must be all strings or all numbers (partitions differ)"
         ) from None
-    tr = tr.iloc[np.argsort(inverse.reshape(-1), kind="stable")]
-    ntr = len(tr)
-    pmin = tr[[f"pmin{k}" for k in range(d)]].to_numpy(np.float64).reshape(ntr, d)
-    pmax = tr[[f"pmax{k}" for k in range(d)]].to_numpy(np.float64).reshape(ntr, d)
-    tmin, tmax = tr["tmin"].to_numpy(np.float64), tr["tmax"].to_numpy(np.float64)
-
-    # interpolation: every interpolated gap T satisfies T <= max_gap and T <= the track's span;
-    # geographic: its chord is at most the diagonal of the track's box
-    span = np.minimum(tmax - tmin, max_gap)
-    seg = np.sqrt(q * np.maximum(span, 0.0))
-    if geo:
-        diag = np.linalg.norm(pmax - pmin, axis=1)
-        arc = diag * (1.0 + diag * diag / big_r**2)
-        seg = seg + arc * arc / (8.0 * big_r)
-
-    # extrapolation at both ends, at the speed of the end pair when it is connected
-    e = pd.concat(ends, ignore_index=True).drop_duplicates(["track_id", "t"])
-    e = e.assign(_k=np.searchsorted(ids, e["track_id"].to_numpy())).sort_values(
-        ["_k", "t"], kind="stable"
+    inverse = inverse.reshape(-1)
+    src = np.concatenate([p[1] for p in parts]) if parts else np.zeros(0, object)
+    first = np.zeros(len(track_ids), np.int64)
+    first[inverse[::-1]] = np.arange(len(inverse) - 1, -1, -1)
+    geo = coords == "geographic"
+    raw = _core.association_track_boxes(
+        np.concatenate([p[2] for p in parts]) if parts else np.zeros((0, 1)),
+        inverse.astype(np.uint32),
+        len(track_ids),
+        geographic=geo,
+        alignment={"max_gap": max_gap, "horizon": horizon, "process_noise": process_noise},
+        halo=halo,
     )
-    k = e["_k"].to_numpy()
-    first_rows = np.flatnonzero(np.r_[True, k[1:] != k[:-1]]) if len(e) else np.zeros(0, int)
-    last_rows = np.r_[first_rows[1:] - 1, len(e) - 1] if len(e) else np.zeros(0, int)
-    end_extra = np.zeros(ntr)
-    if h > 0:
-        end_extra[:] = 2.0 * math.sqrt(q * h)
-        et = e["t"].to_numpy(np.float64)
-        ep = e[[f"p{j}" for j in range(d)]].to_numpy(np.float64)
-        multi = last_rows > first_rows
-        for i0, i1 in ((first_rows, first_rows + 1), (last_rows - 1, last_rows)):
-            i0c, i1c = np.where(multi, i0, first_rows), np.where(multi, i1, first_rows)
-            dt = et[i1c] - et[i0c]
-            chord = np.linalg.norm(ep[i1c] - ep[i0c], axis=1)
-            arc_e = chord * (1.0 + chord * chord / big_r**2) if geo else chord
-            moving = multi & (dt <= max_gap) & (dt > 0)
-            speed = np.where(moving, arc_e / np.where(moving, dt, 1.0), 0.0)
-            length = speed * h
-            grow = length + 2.0 * math.sqrt(q * h)
-            if geo:
-                grow = grow + length * length / (8.0 * big_r)
-            end_extra = np.maximum(end_extra, grow)
-
-    # the engine pads its boxes by 1e-9 |v| against rounding; 1e4 times that and 1 mm here
-    scale = np.maximum(np.abs(pmin), np.abs(pmax)).max(axis=1, initial=1.0)
-    rmax = tr["rmax"].to_numpy(np.float64)
-    grow = (rmax + seg + end_extra) * (1.0 + 1e-9) + 1e-5 * scale + 1e-3
-    grow = np.maximum(grow, float(halo))
-    tpad = 1e-9 * np.maximum(np.abs(tmin), np.abs(tmax)).clip(min=1.0) + 1e-6
     out: dict[str, Any] = {
-        "track_id": ids,
-        "source": tr["source"].to_numpy(),
-        "start": tmin,
-        "end": tmax,
-        "reports": tr["reports"].to_numpy(np.int64),
-        "halo": grow,
-        "area_min": tr["amin"].to_numpy(np.float64),
-        "area_max": tr["amax"].to_numpy(np.float64),
+        "track_id": track_ids,
+        "source": src[first],
+        "start": raw["start"],
+        "end": raw["end"],
+        "reports": raw["reports"].astype(np.int64),
+        "halo": raw["halo"],
+        "spread": raw["spread"],
     }
-    for j in range(d):
-        out[f"lo{j}"] = pmin[:, j] - grow
-        out[f"hi{j}"] = pmax[:, j] + grow
-    out[f"lo{d}"] = tmin - h - tpad
-    out[f"hi{d}"] = tmax + h + tpad
-    names = PLANAR if coords == "planar" else GEOGRAPHIC
-    out["first_time"] = e["t"].to_numpy(np.float64)[first_rows]
-    for name in names:
-        out[f"first_{name}"] = e[name].to_numpy(np.float64)[first_rows]
+    dims = [0, 1, 2, 3] if geo else [0, 1, 3]  # planar boxes have no z
+    for j, k in enumerate(dims):
+        out[f"lo{j}"] = raw["lo"][:, k]
+        out[f"hi{j}"] = raw["hi"][:, k]
+    out["first_time"] = raw["first_time"]
+    for k, name in enumerate(PLANAR if coords == "planar" else GEOGRAPHIC):
+        out[f"first_{name}"] = raw["first_aou"][:, k]
     return pd.DataFrame(out)
 
 
@@ -307,17 +207,16 @@ def track_boxes(
     Returns
     -------
     pandas.DataFrame
-        Sorted by ``track_id``: ``track_id, source, start, end, reports, halo`` and the box
+        Sorted by ``track_id``: ``track_id, source, start, end, reports, halo, spread`` (the
+        track's AOU size as the posterior orders tracks) and the box
         ``lo0 .. lo{d}``, ``hi0 .. hi{d}`` over the ``d`` spatial dimensions (``x, y``; ECEF
         ``X, Y, Z`` for geographic reports) and time (the last); every chunk box of the
         engine's candidate index for the track lies inside (see the module docs). Then the
         track's first report (``first_time``, ``first_x`` ...).
     """
     rep = read_reports(reports, coords=coords)
-    agg, ends = _partials(rep)
     return _combine(
-        [agg],
-        [ends],
+        [_partials(rep)],
         rep.coords,
         max_gap=max_gap,
         horizon=horizon,
@@ -382,11 +281,10 @@ def _reports_of(part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, 
 
 def _partition_partials(
     part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, ...]
-) -> tuple[tuple[NDArray[Any], ...], pd.DataFrame, pd.DataFrame]:
-    """A partition parsed once: its reports as arrays, and its partial aggregates."""
+) -> tuple[tuple[NDArray[Any], ...], tuple[NDArray[Any], NDArray[Any], NDArray[np.float64]]]:
+    """A partition parsed once: its reports as arrays, and its tracks' partials."""
     rep = _reports_of(part, pidx, coords, columns)
-    agg, ends = _partials(rep)
-    return (rep.track, rep.source, rep.time, rep.aou, rep.track_ids, rep.sources), agg, ends
+    return (rep.track, rep.source, rep.time, rep.aou, rep.track_ids, rep.sources), _partials(rep)
 
 
 def _to_tiles(
@@ -744,13 +642,12 @@ def _run(
     nparts = ddf.npartitions
     # 1. per-track boxes from per-partition partial aggregates (no shuffle of the reports)
     # (each partition is parsed once; the parsed arrays stay on the workers for step 3)
-    partial = dask.delayed(_partition_partials, pure=True, nout=3)
+    partial = dask.delayed(_partition_partials, pure=True, nout=2)
     stage = dask.persist(*[partial(p, i, coords, columns) for i, p in enumerate(ddf.to_delayed())])
-    aggs, ends = dask.compute([s[1] for s in stage], [s[2] for s in stage])
+    (parts,) = dask.compute([s[1] for s in stage])
     o = {**ASSOCIATION_DEFAULTS, **general}
     tracks = _combine(
-        list(aggs),
-        list(ends),
+        list(parts),
         coords,
         max_gap=float(o["max_gap"]),
         horizon=float(o["horizon"]),
@@ -860,10 +757,7 @@ def _gather(
     stats = {
         name: np.ascontiguousarray(pairs[name].to_numpy(dtype)[keep]) for name, dtype in _STATS
     }
-    # as the engine's assign::TrackInfo::spread_of, bit for bit
-    spread = 0.25 * np.sqrt(
-        tracks["area_min"].to_numpy(np.float64) * tracks["area_max"].to_numpy(np.float64)
-    )
+    spread = tracks["spread"].to_numpy(np.float64)
     raw = _core.association_finish(
         track_reports.source,
         np.ascontiguousarray(spread),

@@ -14,6 +14,12 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// A random scene: tracks of random walks in a `size` metre square, some with long gaps.
 fn scene(seed: u64, n_tracks: usize, size: f64, geo: Option<[f64; 2]>) -> Reports {
+    let (coords, (track, source, time, aou)) = scene_rows(seed, n_tracks, size, geo);
+    Reports::new(coords, n_tracks, &track, &source, &time, &aou).unwrap()
+}
+
+/// The rows of [`scene`].
+fn scene_rows(seed: u64, n_tracks: usize, size: f64, geo: Option<[f64; 2]>) -> (Coords, Columns) {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
     let (mut track, mut source, mut time, mut aou) = (vec![], vec![], vec![], vec![]);
     for t in 0..n_tracks {
@@ -51,7 +57,7 @@ fn scene(seed: u64, n_tracks: usize, size: f64, geo: Option<[f64; 2]>) -> Report
     } else {
         Coords::Planar
     };
-    Reports::new(coords, n_tracks, &track, &source, &time, &aou).unwrap()
+    (coords, (track, source, time, aou))
 }
 
 fn align_opts(horizon: f64) -> Alignment {
@@ -62,8 +68,78 @@ fn align_opts(horizon: f64) -> Alignment {
     }
 }
 
+/// Columns of reports being built: track, source, time, AOU rows.
+type Columns = (Vec<u32>, Vec<u32>, Vec<f64>, Vec<[f64; 5]>);
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn merged_partials_of_any_split_hold_every_chunk_box(
+        seed in 0u64..1_000_000,
+        n in 1usize..40,
+        parts in 1usize..4,
+        window in prop_oneof![Just(0.0), 30.0..600.0f64],
+        horizon in prop_oneof![Just(0.0), 1.0..120.0f64],
+        halo in prop_oneof![Just(0.0), 0.0..5_000.0f64],
+        geo in prop_oneof![Just(None), Just(Some([50.8, -1.1])), Just(Some([12.0, 179.97]))],
+    ) {
+        let (coords, (track, source, time, aou)) = scene_rows(seed, n, 20_000.0, geo);
+        let whole = Reports::new(coords, n, &track, &source, &time, &aou).unwrap();
+        // rows dealt to `parts` partitions at random; each partition's partials, merged
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed ^ 0x5eed);
+        let deal: Vec<usize> = (0..track.len()).map(|_| rng.random_range(0..parts)).collect();
+        let mut merged: Vec<Option<candidates::TrackPartial>> = vec![None; n];
+        for part in 0..parts {
+            let rows: Vec<usize> = (0..track.len()).filter(|&i| deal[i] == part).collect();
+            // the partition numbers its tracks densely, as a reader of it alone does
+            let mut present: Vec<u32> = rows.iter().map(|&i| track[i]).collect();
+            present.sort_unstable();
+            present.dedup();
+            let local: Vec<u32> = rows
+                .iter()
+                .map(|&i| present.binary_search(&track[i]).unwrap() as u32)
+                .collect();
+            let sub_aou: Vec<[f64; 5]> = rows.iter().map(|&i| aou[i]).collect();
+            let sub = Reports::new(
+                coords,
+                present.len(),
+                &local,
+                &rows.iter().map(|&i| source[i]).collect::<Vec<_>>(),
+                &rows.iter().map(|&i| time[i]).collect::<Vec<_>>(),
+                &sub_aou,
+            )
+            .unwrap();
+            for (k, p) in candidates::TrackPartial::of(&sub, &sub_aou).iter().enumerate() {
+                match &mut merged[present[k] as usize] {
+                    Some(m) => m.merge(p),
+                    slot => *slot = Some(p.clone()),
+                }
+            }
+        }
+        let merged: Vec<candidates::TrackPartial> = merged.into_iter().map(Option::unwrap).collect();
+        // the merge is exact: the partials of the whole picture
+        prop_assert_eq!(&merged, &candidates::TrackPartial::of(&whole, &aou));
+        for p in &merged {
+            let row = p.to_row();
+            prop_assert_eq!(&candidates::TrackPartial::from_row(&row, 0).unwrap(), p);
+        }
+        let a = align_opts(horizon);
+        let o = IndexOptions { window, same_source: true };
+        for c in candidates::chunks(&whole, &a, &o) {
+            let (lo, hi) = merged[c.track as usize].halo_box(&a, geo.is_some(), halo);
+            for k in 0..4 {
+                prop_assert!(
+                    lo[k] <= c.lo[k] && c.hi[k] <= hi[k],
+                    "track {} dimension {}: chunk [{}, {}] outside [{}, {}]",
+                    c.track, k, c.lo[k], c.hi[k], lo[k], hi[k]
+                );
+            }
+            for k in 0..3 {
+                prop_assert!(hi[k] - lo[k] >= 2.0 * halo || (k == 2 && geo.is_none()));
+            }
+        }
+    }
 
     #[test]
     fn index_returns_exactly_the_brute_force_pairs(
@@ -116,9 +192,6 @@ proptest! {
         }
     }
 }
-
-/// Columns of reports being built: track, source, time, AOU rows.
-type Columns = (Vec<u32>, Vec<u32>, Vec<f64>, Vec<[f64; 5]>);
 
 /// Reports of a ship on a straight line seen by a source with noise `sigma` every `dt` seconds.
 #[allow(clippy::too_many_arguments)]

@@ -13,7 +13,7 @@ use crate::error::Error;
 use crate::score::{self, Score};
 
 /// The `(n, 5)` AOU rows, as `Reports::new` takes them.
-fn rows5(arr: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 5]>> {
+pub(super) fn rows5(arr: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 5]>> {
     Ok(super::flat5("aou", arr)?
         .chunks_exact(5)
         .map(|c| [c[0], c[1], c[2], c[3], c[4]])

@@ -3,13 +3,14 @@
 //! whole tracks (`evidence::Counts`), and the global step run once on the gathered pairs and
 //! components (`crate::association::finish`, the very function `associate` ends with).
 
-use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use super::association::AssociationArgs;
 use super::{check_signals, detached, slice};
-use crate::association::align::TimeCover;
+use crate::association::align::{Alignment, TimeCover};
+use crate::association::candidates::{TrackPartial, PARTIAL_WIDTH};
 use crate::association::evidence::Counts;
 use crate::association::{self, posterior, PairStat, Picture};
 use crate::error::Error;
@@ -320,7 +321,150 @@ fn counts_of(k: usize, d: &Bound<'_, PyDict>, geographic: bool, cell: f64) -> Py
     })
 }
 
+/// The alignment options of a binding, given as one dict.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+pub(super) struct AlignmentArgs {
+    max_gap: f64,
+    horizon: f64,
+    process_noise: f64,
+}
+
+impl AlignmentArgs {
+    pub(super) fn alignment(&self) -> PyResult<Alignment> {
+        Ok(Alignment {
+            max_gap: self.max_gap,
+            horizon: self.horizon,
+            process_noise: self.process_noise,
+        }
+        .validated()?)
+    }
+}
+
+/// The mergeable partial of every track of some reports (`candidates::TrackPartial`): an
+/// `(n_tracks, PARTIAL_WIDTH)` array, one opaque row per track, for
+/// `association_track_boxes`.
+#[pyfunction]
+#[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic))]
+fn association_track_partials<'py>(
+    py: Python<'py>,
+    track: PyReadonlyArray1<'py, u32>,
+    source: PyReadonlyArray1<'py, u32>,
+    time: PyReadonlyArray1<'py, f64>,
+    aou: PyReadonlyArray2<'py, f64>,
+    n_tracks: usize,
+    geographic: bool,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let r = super::association::reports(&track, &source, &time, &aou, n_tracks, geographic)?;
+    let rows = super::association::rows5(&aou)?;
+    let flat: Vec<f64> = py.detach(|| {
+        TrackPartial::of(&r, &rows)
+            .iter()
+            .flat_map(|p| p.to_row())
+            .collect()
+    });
+    Ok(
+        numpy::ndarray::Array2::from_shape_vec((n_tracks, PARTIAL_WIDTH), flat)
+            .map_err(|e| Error::Invalid(e.to_string()))?
+            .into_pyarray(py),
+    )
+}
+
+/// The partials of `association_track_partials` (rows of any partitions), merged per track
+/// (`track`: each row's track, `0..n_tracks`, every track at least once), and each track's
+/// halo box: a dict of `reports`, `start`, `end`, `spread` (the posterior's AOU size of the
+/// track), `halo` (the spatial growth, m), `lo` and `hi` (`(n, 4)`: x, y, z, t), `first_time`
+/// and `first_aou` (`(n, 5)`, the earliest report as given).
+#[pyfunction]
+#[pyo3(signature = (partials, track, n_tracks, *, geographic, alignment, halo=0.0))]
+fn association_track_boxes<'py>(
+    py: Python<'py>,
+    partials: PyReadonlyArray2<'py, f64>,
+    track: PyReadonlyArray1<'py, u32>,
+    n_tracks: usize,
+    geographic: bool,
+    alignment: AlignmentArgs,
+    halo: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let align = alignment.alignment()?;
+    if !(halo.is_finite() && halo >= 0.0) {
+        return Err(Error::InvalidOption {
+            name: "halo",
+            reason: format!("must be a finite number >= 0, got {halo}"),
+        }
+        .into());
+    }
+    let rows = partials.as_array();
+    let t = slice("track", &track)?;
+    if rows.ncols() != PARTIAL_WIDTH || rows.nrows() != t.len() {
+        return Err(Error::Shape {
+            what: "partials",
+            expected: format!("({}, {PARTIAL_WIDTH})", t.len()),
+            got: format!("{:?}", rows.shape()),
+        }
+        .into());
+    }
+    let mut merged: Vec<Option<TrackPartial>> = vec![None; n_tracks];
+    for (row, (&k, v)) in t.iter().zip(rows.rows()).enumerate() {
+        let slot = merged.get_mut(k as usize).ok_or_else(|| {
+            Error::Invalid(format!(
+                "track row {row}: {k} is not below n_tracks = {n_tracks}"
+            ))
+        })?;
+        let p = TrackPartial::from_row(&v.to_vec(), row)?;
+        match slot {
+            Some(m) => m.merge(&p),
+            None => *slot = Some(p),
+        }
+    }
+    let merged: Vec<TrackPartial> = merged
+        .into_iter()
+        .enumerate()
+        .map(|(k, p)| p.ok_or_else(|| Error::Invalid(format!("track {k} has no partial"))))
+        .collect::<Result<_, _>>()?;
+    let n = merged.len();
+    let (mut lo, mut hi, mut first) = (
+        Vec::with_capacity(4 * n),
+        Vec::with_capacity(4 * n),
+        Vec::with_capacity(5 * n),
+    );
+    for p in &merged {
+        let (l, h) = p.halo_box(&align, geographic, halo);
+        lo.extend_from_slice(&l);
+        hi.extend_from_slice(&h);
+        first.extend_from_slice(&p.ends[0].aou);
+    }
+    let shaped = |v: Vec<f64>, k: usize| {
+        numpy::ndarray::Array2::from_shape_vec((n, k), v).map_err(|e| Error::Invalid(e.to_string()))
+    };
+    let d = PyDict::new(py);
+    let col = |f: fn(&TrackPartial) -> f64| merged.iter().map(f).collect::<Vec<f64>>();
+    let reports: Vec<u64> = merged.iter().map(|p| p.reports).collect();
+    d.set_item("reports", reports.into_pyarray(py))?;
+    d.set_item("start", col(|p| p.t_min).into_pyarray(py))?;
+    d.set_item("end", col(|p| p.t_max).into_pyarray(py))?;
+    d.set_item(
+        "spread",
+        col(|p| posterior::Track::spread_of(p.area_min, p.area_max)).into_pyarray(py),
+    )?;
+    d.set_item(
+        "halo",
+        merged
+            .iter()
+            .map(|p| p.growth(&align, geographic, halo))
+            .collect::<Vec<f64>>()
+            .into_pyarray(py),
+    )?;
+    d.set_item("lo", shaped(lo, 4)?.into_pyarray(py))?;
+    d.set_item("hi", shaped(hi, 4)?.into_pyarray(py))?;
+    d.set_item("first_time", col(|p| p.ends[0].time).into_pyarray(py))?;
+    d.set_item("first_aou", shaped(first, 5)?.into_pyarray(py))?;
+    Ok(d)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(association_track_partials, m)?)?;
+    m.add_function(wrap_pyfunction!(association_track_boxes, m)?)?;
     m.add_function(wrap_pyfunction!(association_pair_stats, m)?)?;
     m.add_function(wrap_pyfunction!(association_finish, m)?)?;
     m.add_function(wrap_pyfunction!(association_track_summary, m)?)?;
