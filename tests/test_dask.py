@@ -10,6 +10,7 @@ interface only.
 from __future__ import annotations
 
 import os
+import re
 import sys
 
 import numpy as np
@@ -403,15 +404,21 @@ def test_halo_boxes_hold_every_report_aou(planar):
 def test_errors_name_the_row_of_the_whole_table(planar):
     bad = planar.copy()
     bad.loc[1234, "ry"] = -1.0
-    with pytest.raises(GeofeasError, match=r"row 1234: column ry"):
+    with pytest.raises(GeofeasError, match=r"row 1234: column ry") as info:
         gd.associate(bad, npartitions=4)
+    assert (info.value.argument, info.value.row, info.value.field) == ("reports", 1234, "ry")
     bad = planar.copy()
     bad.loc[777, "x"] = np.nan
     with pytest.raises(GeofeasError, match=r"row 777: column x"):
         gd.associate(bad, npartitions=4)
     dup = pd.concat([planar, planar.iloc[[10]]], ignore_index=True)
-    with pytest.raises(GeofeasError, match=rf"row {len(planar)}: track .* already has a report"):
+    # found in a tile (the two rows are in different partitions): the caller's rows and id
+    name = re.escape(repr(str(planar["track_id"].iloc[10])))
+    with pytest.raises(
+        GeofeasError, match=rf"^row {len(planar)}: track {name} already has a report .*\(row 10\)"
+    ) as info:
         gd.associate(dup, npartitions=4)
+    assert (info.value.row, info.value.field) == (len(planar), "time")
     with pytest.raises(GeofeasError, match="missing column"):
         gd.associate(planar.drop(columns="source"))
     with pytest.raises(GeofeasError, match="p_match"):

@@ -129,15 +129,57 @@ class Reports:
 
 
 class _Where:
-    """Names a row of the input in errors: a file line (header = line 1) or a table row."""
+    """Names a row of the input in errors: a file line (header = line 1) or a table row.
 
-    def __init__(self, path: str | None, lines: bool) -> None:
+    ``labels`` (optional) numbers the rows as a larger table does (``labels[row]``, or a
+    callable): a part of a table read alone names the rows of the whole.
+    """
+
+    def __init__(self, path: str | None, lines: bool, labels: Any = None) -> None:
         self.path = path
         self.lines = lines
+        self.labels = labels
+
+    def label(self, row: int) -> int:
+        if self.labels is None:
+            return row
+        return int(self.labels(row) if callable(self.labels) else self.labels[row])
 
     def __call__(self, row: int) -> str:
-        where = f"line {row + 2}" if self.lines else f"row {row}"
+        k = self.label(row)
+        where = f"line {k + 2}" if self.lines else f"row {k}"
         return f"{self.path}: {where}" if self.path else where
+
+
+class _Row(int):
+    """A row of the input inside the parts of an error message (see :func:`_error`)."""
+
+
+def _error(where: _Where, *parts: str | _Row, field: str | None = None) -> GeofeasError:
+    """A ``GeofeasError`` about rows of ``reports``: the message is ``parts`` with every
+    :class:`_Row` named by ``where``; ``.row`` is the first row named, ``.field`` the column.
+    The parts are kept, so :func:`_relabelled` names the rows anew without reading the text."""
+    err = GeofeasError("".join(where(p) if isinstance(p, _Row) else p for p in parts))
+    rows = [p for p in parts if isinstance(p, _Row)]
+    err.argument = "reports"
+    err.row = where.label(rows[0]) if rows else None
+    err.field = field
+    err._where, err._parts = where, parts
+    return err
+
+
+def _relabelled(err: GeofeasError, labels: Any) -> GeofeasError:
+    """``err`` (from :func:`_error`) with its rows' labels ``l`` renamed ``labels(l)``."""
+    where: _Where | None = getattr(err, "_where", None)
+    if where is None:
+        return err
+    old = where.label
+
+    def label(row: int) -> int:
+        return int(labels(old(row)))
+
+    renamed = _Where(where.path, where.lines, label)
+    return _error(renamed, *err._parts, field=err.field)
 
 
 def _read_table(source: Any) -> tuple[pd.DataFrame, _Where]:
@@ -242,11 +284,7 @@ def _ids(frame: pd.DataFrame, column: str, where: _Where) -> tuple[NDArray[Any],
 
 def _field_error(where: _Where, row: int, column: str, message: str) -> GeofeasError:
     """A ``GeofeasError`` naming the row (file line) and column, with the attributes set."""
-    err = GeofeasError(f"{where(row)}: column {column}: {message}")
-    err.argument = "reports"
-    err.row = row
-    err.field = column
-    return err
+    return _error(where, _Row(row), f": column {column}: {message}", field=column)
 
 
 def _times(frame: pd.DataFrame, where: _Where) -> NDArray[np.float64]:
@@ -271,9 +309,12 @@ def _times(frame: pd.DataFrame, where: _Where) -> NDArray[np.float64]:
             bad = numeric.isna().to_numpy()
             if bad.any():
                 row = _first(bad)
-                raise GeofeasError(
-                    f"{where(row)}: column time: {text.iloc[row]!r} is not a number of seconds "
-                    f"(the column is read as seconds, as its first value is)"
+                raise _field_error(
+                    where,
+                    row,
+                    "time",
+                    f"{text.iloc[row]!r} is not a number of seconds "
+                    "(the column is read as seconds, as its first value is)",
                 )
             return _times(frame.assign(time=numeric), where)
         try:
@@ -283,9 +324,12 @@ def _times(frame: pd.DataFrame, where: _Where) -> NDArray[np.float64]:
         bad = dt.isna().to_numpy()
         if bad.any():
             row = _first(bad)
-            raise GeofeasError(
-                f"{where(row)}: column time: {text.iloc[row]!r} is not an ISO-8601 time "
-                "(the column is read as ISO-8601, as its first value is)"
+            raise _field_error(
+                where,
+                row,
+                "time",
+                f"{text.iloc[row]!r} is not an ISO-8601 time "
+                "(the column is read as ISO-8601, as its first value is)",
             )
     epoch = pd.Timestamp("1970-01-01", tz="UTC")
     return np.ascontiguousarray(((dt - epoch) / pd.Timedelta(seconds=1)).to_numpy(np.float64))
@@ -359,9 +403,15 @@ def read_reports(source: Any, /, *, coords: str = "auto") -> Reports:
         ``[-90, 90]``, ids mixing strings and numbers, a track reported by two sources, or
         two reports of one track at the same time. Nothing is dropped silently.
     """
+    return _read_reports(source, coords=coords)
+
+
+def _read_reports(source: Any, /, *, coords: str = "auto", labels: Any = None) -> Reports:
+    """:func:`read_reports`, with errors naming row ``labels[row]`` (see :class:`_Where`)."""
     if isinstance(source, Reports):
         return source
     frame, where = _read_table(source)
+    where.labels = labels
     frame.columns = [str(c).strip() for c in frame.columns]
     dup = frame.columns[frame.columns.duplicated()]
     if len(dup):
@@ -403,9 +453,13 @@ def read_reports(source: Any, /, *, coords: str = "auto") -> Reports:
         if bad.any():
             k = _first(bad)
             a, b = sorted((int(order[k]), int(order[k + 1])))
-            raise GeofeasError(
-                f"{where(b)}: track {track_ids[track[b]]!r} has source {sources[src[b]]!r} but "
-                f"{where(a)} gives it source {sources[src[a]]!r}"
+            raise _error(
+                where,
+                _Row(b),
+                f": track {track_ids[track[b]]!r} has source {sources[src[b]]!r} but ",
+                _Row(a),
+                f" gives it source {sources[src[a]]!r}",
+                field="source",
             )
         # distinct times within a track
         order = np.lexsort((np.arange(n), time, track))
@@ -413,9 +467,13 @@ def read_reports(source: Any, /, *, coords: str = "auto") -> Reports:
         if dup.any():
             k = _first(dup)
             a, b = sorted((int(order[k]), int(order[k + 1])))
-            raise GeofeasError(
-                f"{where(b)}: track {track_ids[track[b]]!r} already has a report at this time "
-                f"({where(a)}); remove or merge duplicate reports"
+            raise _error(
+                where,
+                _Row(b),
+                f": track {track_ids[track[b]]!r} already has a report at this time (",
+                _Row(a),
+                "); remove or merge duplicate reports",
+                field="time",
             )
     return Reports(
         frame,
@@ -494,9 +552,7 @@ class Association:
                 "review_gain": np.asarray(raw["review_gain"], dtype=np.float64),
                 "settles_same": np.asarray(raw["settles_same"], dtype=np.int64),
                 "settles_different": np.asarray(raw["settles_different"], dtype=np.int64),
-                "component": pd.array(
-                    np.where(component < 2**32 - 1, component, 0), dtype="Int64"
-                ),
+                "component": pd.array(np.where(component < 2**32 - 1, component, 0), dtype="Int64"),
             }
         )
         self.pairs.loc[rank == 0, "review_rank"] = pd.NA
@@ -557,8 +613,10 @@ class Association:
         decisions, as :func:`associate` with ``decisions=`` would give them."""
         from .decisions import Decisions, read_decisions
 
-        dec = decisions if isinstance(decisions, Decisions) else read_decisions(
-            decisions, self.reports
+        dec = (
+            decisions
+            if isinstance(decisions, Decisions)
+            else read_decisions(decisions, self.reports)
         )
         raw = self._raw
         core, _ = _resolve_options(

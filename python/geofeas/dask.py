@@ -45,7 +45,6 @@ and the result does not change.
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Mapping
 from typing import Any
 
@@ -61,6 +60,8 @@ from .association import (
     PLANAR,
     Association,
     Reports,
+    _read_reports,
+    _relabelled,
     _resolve_options,
     read_reports,
 )
@@ -77,8 +78,6 @@ except ImportError as exc:  # pragma: no cover - exercised by test_missing_dask
 __all__ = ["associate", "track_boxes"]
 
 _REQUIRED = ("track_id", "source", "time")
-#: Digits of the zero-padded global track and source indices handed to the engine per tile.
-_ID_DIGITS = 19
 
 
 def _columns(frame_columns: Any, coords: str) -> tuple[str, tuple[str, ...]]:
@@ -106,20 +105,6 @@ def _columns(frame_columns: Any, coords: str) -> tuple[str, tuple[str, ...]]:
     if absent:
         raise GeofeasError(f"reports: {coords} mode needs the column(s) {', '.join(absent)}")
     return coords, _REQUIRED + aou
-
-
-def _global_rows(exc: GeofeasError, rows: NDArray[np.int64]) -> GeofeasError:
-    """The engine's error with its partition-local row numbers replaced by the caller's."""
-
-    def sub(m: re.Match[str]) -> str:
-        k = int(m.group(2))
-        return f"{m.group(1)}{int(rows[k]) if 0 <= k < len(rows) else k}"
-
-    err = GeofeasError(re.sub(r"(\brow )(\d+)", sub, str(exc)))
-    err.argument, err.field = getattr(exc, "argument", None), getattr(exc, "field", None)
-    row = getattr(exc, "row", None)
-    err.row = int(rows[row]) if row is not None and 0 <= row < len(rows) else row
-    return err
 
 
 def _partials(rep: Reports) -> tuple[NDArray[Any], NDArray[Any], NDArray[np.float64]]:
@@ -273,10 +258,7 @@ def _reports_of(part: pd.DataFrame, pidx: int, coords: str, columns: tuple[str, 
     for c in ("track_id", "source"):  # categorical columns (from Parquet) as their values
         if isinstance(frame[c].dtype, pd.CategoricalDtype):
             frame[c] = frame[c].astype(frame[c].cat.categories.dtype)
-    try:
-        return read_reports(frame, coords=coords)
-    except GeofeasError as exc:
-        raise _global_rows(exc, rows) from None
+    return _read_reports(frame, coords=coords, labels=rows)
 
 
 def _partition_partials(
@@ -358,6 +340,7 @@ def _home_counts(
     rep: Reports,
     home: NDArray[np.bool_],
     gid: NDArray[np.int64],
+    sources: NDArray[Any],
     geographic: bool,
     options: dict[str, Any],
 ) -> tuple[dict[str, Any], dict[str, Any]] | None:
@@ -379,8 +362,8 @@ def _home_counts(
     counts, cover = _core.association_track_summary(*args, geographic=geographic, options=options)
     cover = dict(cover)
     cover["track"] = gid[tracks]
-    # the tile numbers sources among those it holds; their values are the picture's indices
-    glob = np.asarray(rep.sources, dtype=np.int64)
+    # the tile numbers sources among those it holds; map them to the picture's indices
+    glob = np.searchsorted(sources, rep.sources).astype(np.int64)
     micros = np.asarray(counts["micros"], dtype=np.uint64)
     whole = np.zeros(int(glob.max()) + 1, dtype=np.uint64)
     whole[glob[: len(micros)]] = micros
@@ -417,9 +400,9 @@ def _score_tiles(
     """The candidate pairs each tile of a partition owns, with the engine's summaries, and the
     picture counts of the tracks whose home the tile is.
 
-    Tracks arrive under their global indices (``track_id``), so the engine numbers a tile's
-    tracks in the order of the whole picture: every pair keeps its orientation ``a < b`` and
-    the order of its floating-point operations.
+    Tracks arrive under their global indices (``track_id``) and are read under their ids, so
+    the engine numbers a tile's tracks in the order of the whole picture: every pair keeps its
+    orientation ``a < b`` and the order of its floating-point operations.
     """
     grid, lo, hi, track_ids, sources, home_tile = shared
     geographic = coords == "geographic"
@@ -431,27 +414,15 @@ def _score_tiles(
     covers: list[dict[str, Any]] = []
     for tile, rows in part.groupby("_tile", sort=True):
         rows = rows.sort_values("_row", kind="stable")  # the caller's order
-        try:  # whole tracks here: the cross-report checks (one source, distinct times) bite
-            table = rows.loc[:, list(columns)].reset_index(drop=True)
-            # ids are names: the global indices go in as zero-padded text, whose sorted order
-            # is the numeric order of the whole picture
-            for c in ("track_id", "source"):
-                table[c] = np.char.zfill(table[c].to_numpy(np.int64).astype(str), _ID_DIGITS)
-            rep = read_reports(table, coords=coords)
-        except GeofeasError as exc:  # the caller's rows, ids and sources
-            text = str(_global_rows(exc, rows["_row"].to_numpy(np.int64)))
-            for word, names in (("track", track_ids), ("source", sources)):
-
-                def name(m: re.Match[str], w: str = word, v: NDArray[Any] = names) -> str:
-                    return f"{w} {v[int(m.group(1))]!r}"
-
-                text = re.sub(rf"\b{word} '?(\d+)'?", name, text)
-            err = GeofeasError(text)
-            err.argument, err.field = exc.argument, exc.field
-            err.row = None if exc.row is None else int(rows["_row"].to_numpy(np.int64)[exc.row])
-            raise err from None
-        gid = np.asarray(rep.track_ids, dtype=np.int64)
-        c = _home_counts(rep, home_tile[gid] == tile, gid, geographic, options)
+        # whole tracks here: the cross-report checks (one source, distinct times) bite, naming
+        # the caller's ids, sources and rows; the engine numbers the tile's tracks by their
+        # sorted ids, i.e. in the order of the whole picture
+        table = rows.loc[:, list(columns)].reset_index(drop=True)
+        table["track_id"] = track_ids[table["track_id"].to_numpy(np.int64)]
+        table["source"] = sources[table["source"].to_numpy(np.int64)]
+        rep = _read_reports(table, coords=coords, labels=rows["_row"].to_numpy(np.int64))
+        gid = np.searchsorted(track_ids, rep.track_ids).astype(np.int64)
+        c = _home_counts(rep, home_tile[gid] == tile, gid, sources, geographic, options)
         if c is not None:
             counts.append(c[0])
             covers.append(c[1])
@@ -607,24 +578,20 @@ def associate(
 
 
 def _name_rows(exc: GeofeasError, ddf: dd.DataFrame) -> GeofeasError:
-    """Replace the ``(partition << 40) + row`` row numbers of an error by rows of the table."""
-    text = str(exc)
-    if not re.search(rf"\brow \d{{{len(str(1 << _ROW_BITS))},}}", text):
+    """The error with its rows, numbered ``(partition << 40) + row`` by the tasks, renamed as
+    rows of the whole table (the partitions' lengths are counted only now, on the error
+    path); the message is built anew from its parts (see ``association._error``)."""
+    row = getattr(exc, "row", None)
+    if row is None or row < 1 << _ROW_BITS and getattr(exc, "_where", None) is None:
         return exc
     offsets = np.concatenate([[0], np.cumsum(np.asarray(ddf.map_partitions(len).compute()))])
+    mask = (1 << _ROW_BITS) - 1
 
-    def sub(m: re.Match[str]) -> str:
-        v = int(m.group(2))
-        p, r = v >> _ROW_BITS, v & ((1 << _ROW_BITS) - 1)
-        return f"{m.group(1)}{int(offsets[p]) + r}" if p < len(offsets) - 1 else m.group(0)
+    def whole(label: int) -> int:
+        p = label >> _ROW_BITS
+        return int(offsets[p]) + (label & mask) if p < len(offsets) - 1 else label
 
-    err = GeofeasError(re.sub(r"(\brow )(\d+)", sub, text))
-    err.argument, err.field = getattr(exc, "argument", None), getattr(exc, "field", None)
-    row = getattr(exc, "row", None)
-    if row is not None:
-        p, r = int(row) >> _ROW_BITS, int(row) & ((1 << _ROW_BITS) - 1)
-        err.row = int(offsets[p]) + r if p < len(offsets) - 1 else row
-    return err
+    return _relabelled(exc, whole)
 
 
 def _run(
