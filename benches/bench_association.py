@@ -95,12 +95,12 @@ def main() -> None:
     frame = picture(args.tracks, args.reports, args.planar)
     rss0 = peak_rss_mb()
     rep = geofeas.read_reports(frame)
-    geo = rep.coords == "geographic"
     n = rep.n_tracks
     print(f"picture: {len(rep):,} reports, {n:,} tracks ({rep.coords}); peak RSS {rss0:.0f} MB")
 
     t = time.perf_counter()
-    a, b = _core.association_candidates(*rep._core_args(), geographic=geo)
+    core, _ = _resolve_options(rep.sources, {}, {})  # the defaults of geofeas.associate
+    a, b = _core.association_candidates(rep, options=core)
     t_cand = time.perf_counter() - t
     print(f"candidate generation (rstar): {len(a):,} candidate pairs in {t_cand:.2f} s")
 
@@ -122,10 +122,7 @@ def main() -> None:
     sb = np.where(sb >= sa, sb + 1, sb)
     lo, hi = np.minimum(sa, sb).astype(np.uint32), np.maximum(sa, sb).astype(np.uint32)
     t = time.perf_counter()
-    core, _ = _resolve_options(rep.sources, {}, {})  # the defaults of geofeas.associate
-    k = _core.association_pair_stats(*rep._core_args(), lo, hi, geographic=geo, options=core)[
-        "instants"
-    ]
+    k = _core.association_pair_stats(rep, lo, hi, options=core)["instants"]
     t_sample = time.perf_counter() - t
     all_pairs = n * (n - 1) / 2
     t_brute = t_sample * all_pairs / args.sample

@@ -178,7 +178,7 @@ def _scores(frame, a, b, **kw):
     engine = {k: v for k, v in kw.items() if k in ASSOCIATION_DEFAULTS}
     score = {k: v for k, v in kw.items() if k not in ASSOCIATION_DEFAULTS}
     core, _ = _resolve_options(rep.sources, {"inflation": 1.0, **engine}, score)
-    st = _core.association_pair_stats(*rep._core_args(), ia, ib, geographic=False, options=core)
+    st = _core.association_pair_stats(rep, ia, ib, options=core)
     return float(st["score"][0]), int(st["instants"][0])
 
 
@@ -444,9 +444,10 @@ def test_index_returns_exactly_the_brute_force_pairs(rng, same_source):
     found = 0
     for _ in range(10):
         rep = geofeas.read_reports(_random_scene(rng, int(rng.integers(5, 80)), 20_000))
-        kw = dict(geographic=False, same_source=same_source, horizon=30.0, window=120.0)
-        fast = _core.association_candidates(*rep._core_args(), **kw)
-        slow = _core.association_candidates(*rep._core_args(), brute_force=True, **kw)
+        kw = dict(max_gap=300.0, process_noise=2.0, same_source=same_source, horizon=30.0)
+        kw["window"] = 120.0
+        fast = _core.association_candidates(rep, options=kw)
+        slow = _core.association_candidates(rep, options=kw, brute_force=True)
         np.testing.assert_array_equal(fast[0], slow[0])
         np.testing.assert_array_equal(fast[1], slow[1])
         found += len(fast[0])

@@ -1,6 +1,7 @@
 """Typed stub of the Rust extension module ``geofeas._core``."""
 
-from typing import Any, final
+from collections.abc import Mapping
+from typing import Any, Protocol, final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -44,6 +45,32 @@ __all__ = [
 ]
 
 __version__: str
+
+class _ReportColumns(Protocol):
+    """What the association bindings read of ``geofeas.Reports`` (or ``ReportColumns``)."""
+
+    @property
+    def track(self) -> NDArray[np.uint32]: ...
+    @property
+    def source(self) -> NDArray[np.uint32]: ...
+    @property
+    def time(self) -> NDArray[np.float64]: ...
+    @property
+    def aou(self) -> NDArray[np.float64]: ...
+    @property
+    def n_tracks(self) -> int: ...
+    @property
+    def coords(self) -> str: ...
+
+class _DecisionColumns(Protocol):
+    """What the association bindings read of ``geofeas.Decisions``."""
+
+    @property
+    def a(self) -> NDArray[np.uint32]: ...
+    @property
+    def b(self) -> NDArray[np.uint32]: ...
+    @property
+    def same(self) -> NDArray[np.bool_]: ...
 
 class GeofeasError(ValueError):
     """Invalid input or options for a geofeas computation (a ValueError)."""
@@ -270,33 +297,16 @@ def pf_study(
     ic_snr: float = 2.0,
 ) -> dict[str, Any]: ...
 def associate(
-    track: NDArray[np.uint32],
-    source: NDArray[np.uint32],
-    time: NDArray[np.float64],
-    aou: NDArray[np.float64],
-    n_tracks: int,
-    decision_a: NDArray[np.uint32],
-    decision_b: NDArray[np.uint32],
-    decision_same: NDArray[np.bool_],
-    decision_row: NDArray[np.uint64],
+    reports: _ReportColumns,
+    decisions: _DecisionColumns,
     *,
-    geographic: bool,
-    options: dict[str, Any],
+    options: Mapping[str, Any],
 ) -> dict[str, Any]: ...
 def association_candidates(
-    track: NDArray[np.uint32],
-    source: NDArray[np.uint32],
-    time: NDArray[np.float64],
-    aou: NDArray[np.float64],
-    n_tracks: int,
+    reports: _ReportColumns,
     *,
-    geographic: bool,
+    options: Mapping[str, Any],
     brute_force: bool = False,
-    max_gap: float = 300.0,
-    horizon: float = 0.0,
-    process_noise: float = 2.0,
-    same_source: bool = False,
-    window: float = 300.0,
 ) -> tuple[NDArray[np.uint32], NDArray[np.uint32]]: ...
 def combine_instants(
     g: NDArray[np.float64],
@@ -316,90 +326,48 @@ def assign_one_to_one(
 ) -> NDArray[np.uint64]: ...
 def association_default_upper() -> float: ...
 def association_pair_instants(
-    track: NDArray[np.uint32],
-    source: NDArray[np.uint32],
-    time: NDArray[np.float64],
-    aou: NDArray[np.float64],
-    n_tracks: int,
+    reports: _ReportColumns,
     a: int,
     b: int,
     *,
-    geographic: bool,
-    max_gap: float = 300.0,
-    horizon: float = 0.0,
-    process_noise: float = 2.0,
+    alignment: Mapping[str, float],
 ) -> dict[str, NDArray[np.float64]]: ...
 def association_states_at(
-    track: NDArray[np.uint32],
-    source: NDArray[np.uint32],
-    time: NDArray[np.float64],
-    aou: NDArray[np.float64],
-    n_tracks: int,
+    reports: _ReportColumns,
     times: NDArray[np.float64],
     *,
-    geographic: bool,
-    max_gap: float = 300.0,
-    horizon: float = 0.0,
-    process_noise: float = 2.0,
+    alignment: Mapping[str, float],
 ) -> dict[str, NDArray[Any]]: ...
 def project_aeqd(aou: NDArray[np.float64], origin: tuple[float, float]) -> NDArray[np.float64]: ...
 def association_pair_stats(
-    track: NDArray[np.uint32],
-    source: NDArray[np.uint32],
-    time: NDArray[np.float64],
-    aou: NDArray[np.float64],
-    n_tracks: int,
+    reports: _ReportColumns,
     a: NDArray[np.uint32],
     b: NDArray[np.uint32],
     *,
-    geographic: bool,
-    options: dict[str, Any],
+    options: Mapping[str, Any],
     stream_ids: NDArray[np.uint32] | None = None,
 ) -> dict[str, NDArray[Any]]: ...
 def association_track_summary(
-    track: NDArray[np.uint32],
-    source: NDArray[np.uint32],
-    time: NDArray[np.float64],
-    aou: NDArray[np.float64],
-    n_tracks: int,
+    reports: _ReportColumns,
     *,
-    geographic: bool,
-    options: dict[str, Any],
+    options: Mapping[str, Any],
 ) -> tuple[dict[str, Any], dict[str, Any]]: ...
-def association_track_partials(
-    track: NDArray[np.uint32],
-    source: NDArray[np.uint32],
-    time: NDArray[np.float64],
-    aou: NDArray[np.float64],
-    n_tracks: int,
-    *,
-    geographic: bool,
-) -> NDArray[np.float64]: ...
+def association_track_partials(reports: _ReportColumns) -> NDArray[np.float64]: ...
 def association_track_boxes(
     partials: NDArray[np.float64],
     track: NDArray[np.uint32],
     n_tracks: int,
     *,
     geographic: bool,
-    alignment: dict[str, float],
+    alignment: Mapping[str, float],
     halo: float = 0.0,
 ) -> dict[str, NDArray[Any]]: ...
 def association_finish(
-    source: NDArray[np.uint32],
-    spread: NDArray[np.float64],
-    cover_offsets: NDArray[np.uint32],
-    cover_start: NDArray[np.float64],
-    cover_end: NDArray[np.float64],
-    a: NDArray[np.uint32],
-    b: NDArray[np.uint32],
-    stats: dict[str, NDArray[Any]],
+    tracks: Mapping[str, NDArray[Any]],
+    pairs: dict[str, Any],
     counts: list[dict[str, Any]],
-    decision_a: NDArray[np.uint32],
-    decision_b: NDArray[np.uint32],
-    decision_same: NDArray[np.bool_],
-    decision_row: NDArray[np.uint64],
+    decisions: _DecisionColumns,
     *,
     geographic: bool,
-    options: dict[str, Any],
-    candidates: int,
+    options: Mapping[str, Any],
 ) -> dict[str, Any]: ...

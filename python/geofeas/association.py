@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -124,8 +125,19 @@ class Reports:
             f"{len(self.sources)} sources, {self.coords})"
         )
 
-    def _core_args(self) -> tuple[Any, ...]:
-        return (self.track, self.source, self.time, self.aou, self.n_tracks)
+
+@dataclass(frozen=True)
+class _ReportColumns:
+    """Report columns as the engine's bindings take them (the attributes :class:`Reports` has):
+    ``track`` and ``source`` (uint32 indices), ``time``, ``aou`` (``(n, 5)``), ``n_tracks`` and
+    ``coords``. For arrays that are not a table read by :func:`read_reports`."""
+
+    track: NDArray[np.uint32]
+    source: NDArray[np.uint32]
+    time: NDArray[np.float64]
+    aou: NDArray[np.float64]
+    n_tracks: int
+    coords: str
 
 
 class _Where:
@@ -625,19 +637,17 @@ class Association:
             {k: v for k, v in self.options.items() if k not in ASSOCIATION_DEFAULTS},
         )
         out = _core.association_finish(
-            raw["track_source"],
-            raw["track_spread"],
-            raw["time_cover"]["cover_offsets"],
-            raw["time_cover"]["cover_start"],
-            raw["time_cover"]["cover_end"],
-            np.ascontiguousarray(raw["a"], dtype=np.uint32),
-            np.ascontiguousarray(raw["b"], dtype=np.uint32),
-            raw["stats"],
+            {"source": raw["track_source"], "spread": raw["track_spread"], **raw["time_cover"]},
+            {
+                "a": np.ascontiguousarray(raw["a"], dtype=np.uint32),
+                "b": np.ascontiguousarray(raw["b"], dtype=np.uint32),
+                "candidates": self.candidates,
+                **raw["stats"],
+            },
             [raw["counts"]],
-            *dec._core_args(),
+            dec,
             geographic=self.reports.coords == "geographic",
             options=core,
-            candidates=self.candidates,
         )
         result = Association(self.reports, out, dict(self.options))
         result.decisions = dec
@@ -972,12 +982,7 @@ def associate(
         score_options,
     )
     dec = Decisions.empty() if decisions is None else read_decisions(decisions, rep)
-    raw = _core.associate(
-        *rep._core_args(),
-        *dec._core_args(),
-        geographic=rep.coords == "geographic",
-        options=core,
-    )
+    raw = _core.associate(rep, dec, options=core)
     result = Association(rep, raw, recorded)
     result.decisions = dec
     return result

@@ -62,6 +62,7 @@ from .association import (
     Reports,
     _read_reports,
     _relabelled,
+    _ReportColumns,
     _resolve_options,
     read_reports,
 )
@@ -113,9 +114,7 @@ def _partials(rep: Reports) -> tuple[NDArray[Any], NDArray[Any], NDArray[np.floa
     of the reports by :func:`_combine`, so the tracks' boxes need no shuffle of the reports."""
     first = np.zeros(rep.n_tracks, np.int64)
     first[rep.track[::-1]] = np.arange(len(rep) - 1, -1, -1)  # each track's first row
-    partial = _core.association_track_partials(
-        *rep._core_args(), geographic=rep.coords == "geographic"
-    )
+    partial = _core.association_track_partials(rep)
     return rep.track_ids, rep.sources[rep.source[first]], partial
 
 
@@ -352,14 +351,15 @@ def _home_counts(
     if not keep.any():
         return None
     tracks, track = np.unique(rep.track[keep], return_inverse=True)
-    args = (
-        np.ascontiguousarray(track.reshape(-1), dtype=np.uint32),
-        np.ascontiguousarray(rep.source[keep]),
-        np.ascontiguousarray(rep.time[keep]),
-        np.ascontiguousarray(rep.aou[keep]),
-        len(tracks),
+    home_reports = _ReportColumns(
+        track=np.ascontiguousarray(track.reshape(-1), dtype=np.uint32),
+        source=np.ascontiguousarray(rep.source[keep]),
+        time=np.ascontiguousarray(rep.time[keep]),
+        aou=np.ascontiguousarray(rep.aou[keep]),
+        n_tracks=len(tracks),
+        coords=rep.coords,
     )
-    counts, cover = _core.association_track_summary(*args, geographic=geographic, options=options)
+    counts, cover = _core.association_track_summary(home_reports, options=options)
     cover = dict(cover)
     cover["track"] = gid[tracks]
     # the tile numbers sources among those it holds; map them to the picture's indices
@@ -406,9 +406,6 @@ def _score_tiles(
     """
     grid, lo, hi, track_ids, sources, home_tile = shared
     geographic = coords == "geographic"
-    index = {
-        k: options[k] for k in ("max_gap", "horizon", "process_noise", "same_source", "window")
-    }
     out = [pd.DataFrame(_pairs_frame())]
     counts: list[dict[str, Any]] = []
     covers: list[dict[str, Any]] = []
@@ -426,10 +423,7 @@ def _score_tiles(
         if c is not None:
             counts.append(c[0])
             covers.append(c[1])
-        track, source, time, aou, n_local = rep._core_args()
-        a, b = _core.association_candidates(
-            track, source, time, aou, n_local, geographic=geographic, **index
-        )
+        a, b = _core.association_candidates(rep, options=options)
         if not len(a):
             continue
         ga, gb = gid[a], gid[b]
@@ -442,14 +436,9 @@ def _score_tiles(
             )
         mine = keys == tile
         stats = _core.association_pair_stats(
-            track,
-            source,
-            time,
-            aou,
-            n_local,
+            rep,
             np.ascontiguousarray(a[mine]),
             np.ascontiguousarray(b[mine]),
-            geographic=geographic,
             options=options,
             stream_ids=np.ascontiguousarray(gid, dtype=np.uint32),
         )
@@ -563,12 +552,7 @@ def associate(
     named = np.array(sorted(ft, key=str) if isinstance(ft, Mapping) else [], dtype=object)
     core, _ = _resolve_options(named, general, score_options)
     empty = read_reports({c: np.zeros(0) for c in columns}, coords=coords)
-    _core.associate(
-        *empty._core_args(),
-        *Decisions.empty()._core_args(),
-        geographic=coords == "geographic",
-        options=core,
-    )
+    _core.associate(empty, Decisions.empty(), options=core)
 
     ddf = ddf[list(columns)]
     try:
@@ -726,19 +710,17 @@ def _gather(
     }
     spread = tracks["spread"].to_numpy(np.float64)
     raw = _core.association_finish(
-        track_reports.source,
-        np.ascontiguousarray(spread),
-        cover["cover_offsets"],
-        cover["cover_start"],
-        cover["cover_end"],
-        np.ascontiguousarray(a[keep]),
-        np.ascontiguousarray(b[keep]),
-        stats,
+        {"source": track_reports.source, "spread": np.ascontiguousarray(spread), **cover},
+        {
+            "a": np.ascontiguousarray(a[keep]),
+            "b": np.ascontiguousarray(b[keep]),
+            "candidates": candidates,
+            **stats,
+        },
         counts,
-        *decisions._core_args(),
+        decisions,
         geographic=coords == "geographic",
         options=options,
-        candidates=candidates,
     )
     result = DistributedAssociation(track_reports, raw, recorded, tracks, tiles)
     result.decisions = decisions

@@ -50,10 +50,6 @@ class Decisions:
     def __len__(self) -> int:
         return int(self.a.shape[0])
 
-    def _core_args(self) -> tuple[Any, ...]:
-        rows = np.arange(len(self), dtype=np.uint64)
-        return (self.a, self.b, self.same, rows)
-
     @staticmethod
     def empty() -> Decisions:
         import pandas as pd

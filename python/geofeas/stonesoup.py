@@ -770,18 +770,20 @@ def align_tracks(
             raise GeofeasError(f"argument 'times': element {bad[0]} is not finite")
         grid = np.unique(grid)
     from ._core import association_states_at
+    from .association import _ReportColumns
 
+    columns = _ReportColumns(
+        track=dense,
+        source=np.zeros(len(dense), dtype=np.uint32),
+        time=np.ascontiguousarray(seconds),
+        aou=np.ascontiguousarray(df[["x", "y", "rx", "ry", "phi"]].to_numpy(np.float64)),
+        n_tracks=len(tracks),
+        coords="planar",
+    )
     out = association_states_at(
-        dense,
-        np.zeros(len(dense), dtype=np.uint32),
-        np.ascontiguousarray(seconds),
-        np.ascontiguousarray(df[["x", "y", "rx", "ry", "phi"]].to_numpy(np.float64)),
-        len(tracks),
+        columns,
         np.ascontiguousarray(grid),
-        geographic=False,
-        max_gap=max_gap,
-        horizon=horizon,
-        process_noise=process_noise,
+        alignment={"max_gap": max_gap, "horizon": horizon, "process_noise": process_noise},
     )
     which = np.asarray(out["track"], dtype=np.int64)
     index = np.asarray(out["index"], dtype=np.int64)

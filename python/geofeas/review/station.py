@@ -357,17 +357,10 @@ class Station:
         rep = self.reports
         geographic = rep.coords == "geographic"
         raw = _core.association_pair_instants(
-            rep.track,
-            rep.source,
-            rep.time,
-            rep.aou,
-            rep.n_tracks,
+            rep,
             ia,
             ib,
-            geographic=geographic,
-            max_gap=float(o["max_gap"]),
-            horizon=float(o["horizon"]),
-            process_noise=float(o["process_noise"]),
+            alignment={k: float(o[k]) for k in ("max_gap", "horizon", "process_noise")},
         )
         t = np.asarray(raw["time"])
         sa, sb = np.asarray(raw["state_a"]), np.asarray(raw["state_b"])

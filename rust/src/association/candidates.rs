@@ -308,7 +308,13 @@ impl TrackPartial {
     /// diagonal) and the larger extrapolation term of the two ends, each term of a chunk being
     /// no larger (the functions are increasing); the margin is twice a chunk's.
     pub fn halo_box(&self, align: &Alignment, geo: bool, halo: f64) -> ([f64; 4], [f64; 4]) {
-        let (l3, h3) = grown(self.lo, self.hi, self.growth(align, geo, halo), 2.0 * MARGIN, geo);
+        let (l3, h3) = grown(
+            self.lo,
+            self.hi,
+            self.growth(align, geo, halo),
+            2.0 * MARGIN,
+            geo,
+        );
         (
             [l3[0], l3[1], l3[2], self.t_min - align.horizon],
             [h3[0], h3[1], h3[2], self.t_max + align.horizon],

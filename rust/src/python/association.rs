@@ -20,27 +20,120 @@ pub(super) fn rows5(arr: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<[f64; 5]>> 
         .collect())
 }
 
-pub(super) fn reports(
-    track: &PyReadonlyArray1<'_, u32>,
-    source: &PyReadonlyArray1<'_, u32>,
-    time: &PyReadonlyArray1<'_, f64>,
-    aou: &PyReadonlyArray2<'_, f64>,
-    n_tracks: usize,
-    geographic: bool,
-) -> PyResult<Reports> {
-    let coords = if geographic {
-        Coords::Geographic
-    } else {
-        Coords::Planar
-    };
-    Ok(Reports::new(
-        coords,
-        n_tracks,
-        slice("track", track)?,
-        slice("source", source)?,
-        slice("time", time)?,
-        &rows5(aou)?,
-    )?)
+/// Reports as the bindings take them: any object with the attributes of `geofeas.Reports`
+/// (`track`, `source`: uint32 indices; `time`; `aou` `(n, 5)`; `n_tracks`; `coords`,
+/// `"planar"` or `"geographic"`).
+#[derive(FromPyObject)]
+pub(super) struct ReportsArg<'py> {
+    track: PyReadonlyArray1<'py, u32>,
+    source: PyReadonlyArray1<'py, u32>,
+    time: PyReadonlyArray1<'py, f64>,
+    aou: PyReadonlyArray2<'py, f64>,
+    pub(super) n_tracks: usize,
+    coords: String,
+}
+
+impl ReportsArg<'_> {
+    pub(super) fn coords(&self) -> PyResult<Coords> {
+        match self.coords.as_str() {
+            "planar" => Ok(Coords::Planar),
+            "geographic" => Ok(Coords::Geographic),
+            other => Err(Error::InvalidOption {
+                name: "coords",
+                reason: format!("expected 'planar' or 'geographic', got {other:?}"),
+            }
+            .into()),
+        }
+    }
+
+    /// The `(n, 5)` AOU rows as given.
+    pub(super) fn rows(&self) -> PyResult<Vec<[f64; 5]>> {
+        rows5(&self.aou)
+    }
+
+    /// The columns `track`, `source`, `time` as slices.
+    pub(super) fn columns(&self) -> PyResult<(&[u32], &[u32], &[f64])> {
+        Ok((
+            slice("track", &self.track)?,
+            slice("source", &self.source)?,
+            slice("time", &self.time)?,
+        ))
+    }
+
+    /// The validated, sorted reports.
+    pub(super) fn reports(&self) -> PyResult<Reports> {
+        let (t, s, tm) = self.columns()?;
+        Ok(Reports::new(
+            self.coords()?,
+            self.n_tracks,
+            t,
+            s,
+            tm,
+            &self.rows()?,
+        )?)
+    }
+}
+
+/// Operator decisions as the bindings take them: any object with the attributes of
+/// `geofeas.Decisions` (`a`, `b`: uint32 track indices; `same`: bool), row `k` of its table
+/// being decision `k`.
+#[derive(FromPyObject)]
+pub(super) struct DecisionsArg<'py> {
+    a: PyReadonlyArray1<'py, u32>,
+    b: PyReadonlyArray1<'py, u32>,
+    same: PyReadonlyArray1<'py, bool>,
+}
+
+impl DecisionsArg<'_> {
+    /// The decisions as the engine takes them.
+    pub(super) fn decisions(&self) -> PyResult<Vec<Decision>> {
+        let (a, b, same) = (
+            slice("decisions.a", &self.a)?,
+            slice("decisions.b", &self.b)?,
+            slice("decisions.same", &self.same)?,
+        );
+        if b.len() != a.len() || same.len() != a.len() {
+            return Err(Error::Invalid("decisions: columns of different lengths".into()).into());
+        }
+        Ok((0..a.len())
+            .map(|k| Decision {
+                a: a[k],
+                b: b[k],
+                same: same[k],
+                row: k,
+            })
+            .collect())
+    }
+}
+
+/// The alignment options of a binding: any mapping with the keys `max_gap`, `horizon` and
+/// `process_noise` (the association options are one).
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+pub(super) struct AlignmentArgs {
+    max_gap: f64,
+    horizon: f64,
+    process_noise: f64,
+}
+
+impl AlignmentArgs {
+    pub(super) fn alignment(&self) -> PyResult<Alignment> {
+        Ok(Alignment {
+            max_gap: self.max_gap,
+            horizon: self.horizon,
+            process_noise: self.process_noise,
+        }
+        .validated()?)
+    }
+}
+
+/// The index options of a binding: a mapping with the alignment keys and `same_source`,
+/// `window`.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+pub(super) struct IndexArgs {
+    same_source: bool,
+    window: f64,
 }
 
 /// The association options from the keyword arguments of the bindings.
@@ -118,32 +211,6 @@ impl AssociationArgs {
     }
 }
 
-/// Operator decisions as the engine takes them (dense track indices, rows of the caller's table).
-pub(super) fn decisions(
-    a: &PyReadonlyArray1<'_, u32>,
-    b: &PyReadonlyArray1<'_, u32>,
-    same: &PyReadonlyArray1<'_, bool>,
-    row: &PyReadonlyArray1<'_, u64>,
-) -> PyResult<Vec<Decision>> {
-    let (a, b, same, row) = (
-        slice("decision_a", a)?,
-        slice("decision_b", b)?,
-        slice("decision_same", same)?,
-        slice("decision_row", row)?,
-    );
-    if b.len() != a.len() || same.len() != a.len() || row.len() != a.len() {
-        return Err(Error::Invalid("decisions: columns of different lengths".into()).into());
-    }
-    Ok((0..a.len())
-        .map(|k| Decision {
-            a: a[k],
-            b: b[k],
-            same: same[k],
-            row: row[k] as usize,
-        })
-        .collect())
-}
-
 /// The result as a dict of arrays.
 pub(super) fn result_dict<'py>(
     py: Python<'py>,
@@ -195,41 +262,23 @@ pub(super) fn result_dict<'py>(
     Ok(d)
 }
 
-/// The whole pipeline on dense track / source ids with operator decisions; returns a dict of
-/// arrays. `options` holds the keyword arguments of `geofeas.associate` as resolved in Python.
+/// The whole pipeline on `reports` (see `ReportsArg`) with operator `decisions` (see
+/// `DecisionsArg`); returns a dict of arrays. `options` holds the keyword arguments of
+/// `geofeas.associate` as resolved in Python.
 #[pyfunction]
-#[pyo3(signature = (track, source, time, aou, n_tracks, decision_a, decision_b, decision_same,
-    decision_row, *, geographic, options))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (reports, decisions, *, options))]
 fn associate<'py>(
     py: Python<'py>,
-    track: PyReadonlyArray1<'py, u32>,
-    source: PyReadonlyArray1<'py, u32>,
-    time: PyReadonlyArray1<'py, f64>,
-    aou: PyReadonlyArray2<'py, f64>,
-    n_tracks: usize,
-    decision_a: PyReadonlyArray1<'py, u32>,
-    decision_b: PyReadonlyArray1<'py, u32>,
-    decision_same: PyReadonlyArray1<'py, bool>,
-    decision_row: PyReadonlyArray1<'py, u64>,
-    geographic: bool,
+    reports: ReportsArg<'py>,
+    decisions: DecisionsArg<'py>,
     options: AssociationArgs,
 ) -> PyResult<Bound<'py, PyDict>> {
     let o = options.options()?;
-    let dec = decisions(&decision_a, &decision_b, &decision_same, &decision_row)?;
-    let (t, s, tm) = (
-        slice("track", &track)?,
-        slice("source", &source)?,
-        slice("time", &time)?,
-    );
-    let rows = rows5(&aou)?;
-    let coords = if geographic {
-        Coords::Geographic
-    } else {
-        Coords::Planar
-    };
+    let dec = decisions.decisions()?;
+    let (t, s, tm) = reports.columns()?;
+    let (coords, rows, n) = (reports.coords()?, reports.rows()?, reports.n_tracks);
     let res = detached(py, || {
-        let r = Reports::new(coords, n_tracks, t, s, tm, &rows)?;
+        let r = Reports::new(coords, n, t, s, tm, &rows)?;
         association::associate(&r, &o, &dec, &mut check_signals)
     })?;
     result_dict(py, res)
@@ -237,31 +286,19 @@ fn associate<'py>(
 
 /// Candidate pairs `(a, b)` from the R-tree, or by testing every pair of chunks.
 #[pyfunction]
-#[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic, brute_force=false,
-    max_gap=300.0, horizon=0.0, process_noise=2.0, same_source=false, window=300.0))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (reports, *, options, brute_force=false))]
 fn association_candidates<'py>(
     py: Python<'py>,
-    track: PyReadonlyArray1<'py, u32>,
-    source: PyReadonlyArray1<'py, u32>,
-    time: PyReadonlyArray1<'py, f64>,
-    aou: PyReadonlyArray2<'py, f64>,
-    n_tracks: usize,
-    geographic: bool,
+    reports: ReportsArg<'py>,
+    options: Bound<'py, PyAny>,
     brute_force: bool,
-    max_gap: f64,
-    horizon: f64,
-    process_noise: f64,
-    same_source: bool,
-    window: f64,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-    let r = reports(&track, &source, &time, &aou, n_tracks, geographic)?;
-    let align = Alignment {
-        max_gap,
-        horizon,
-        process_noise,
-    }
-    .validated()?;
+    let r = reports.reports()?;
+    let align = options.extract::<AlignmentArgs>()?.alignment()?;
+    let IndexArgs {
+        same_source,
+        window,
+    } = options.extract()?;
     let index = IndexOptions {
         window,
         same_source,
@@ -355,23 +392,15 @@ fn association_default_upper() -> f64 {
 /// inflation) and both aligned states as `(n, 5)` rows `pos0, pos1, cov_xx, cov_xy, cov_yy`
 /// (positions as given: metres or `lat, lon` degrees; covariances in m^2, x east, y north).
 #[pyfunction]
-#[pyo3(signature = (track, source, time, aou, n_tracks, a, b, *, geographic, max_gap=300.0,
-    horizon=0.0, process_noise=2.0))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (reports, a, b, *, alignment))]
 fn association_pair_instants<'py>(
     py: Python<'py>,
-    track: PyReadonlyArray1<'py, u32>,
-    source: PyReadonlyArray1<'py, u32>,
-    time: PyReadonlyArray1<'py, f64>,
-    aou: PyReadonlyArray2<'py, f64>,
-    n_tracks: usize,
+    reports: ReportsArg<'py>,
     a: usize,
     b: usize,
-    geographic: bool,
-    max_gap: f64,
-    horizon: f64,
-    process_noise: f64,
+    alignment: AlignmentArgs,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let n_tracks = reports.n_tracks;
     for (what, k) in [("a", a), ("b", b)] {
         if k >= n_tracks {
             return Err(Error::Invalid(format!(
@@ -380,13 +409,8 @@ fn association_pair_instants<'py>(
             .into());
         }
     }
-    let r = reports(&track, &source, &time, &aou, n_tracks, geographic)?;
-    let align = Alignment {
-        max_gap,
-        horizon,
-        process_noise,
-    }
-    .validated()?;
+    let r = reports.reports()?;
+    let align = alignment.alignment()?;
     let (t, m, sa, sb) = py.detach(|| {
         let inst = association::align::common_instants(&r, a, b, &align);
         let n = inst.len();
@@ -415,29 +439,16 @@ fn association_pair_instants<'py>(
 /// (into `times`) and `state` `(m, 5)` rows `pos0, pos1, cov_xx, cov_xy, cov_yy`, track by
 /// track in time order.
 #[pyfunction]
-#[pyo3(signature = (track, source, time, aou, n_tracks, times, *, geographic, max_gap=300.0,
-    horizon=0.0, process_noise=2.0))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (reports, times, *, alignment))]
 fn association_states_at<'py>(
     py: Python<'py>,
-    track: PyReadonlyArray1<'py, u32>,
-    source: PyReadonlyArray1<'py, u32>,
-    time: PyReadonlyArray1<'py, f64>,
-    aou: PyReadonlyArray2<'py, f64>,
-    n_tracks: usize,
+    reports: ReportsArg<'py>,
     times: PyReadonlyArray1<'py, f64>,
-    geographic: bool,
-    max_gap: f64,
-    horizon: f64,
-    process_noise: f64,
+    alignment: AlignmentArgs,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let r = reports(&track, &source, &time, &aou, n_tracks, geographic)?;
-    let align = Alignment {
-        max_gap,
-        horizon,
-        process_noise,
-    }
-    .validated()?;
+    let n_tracks = reports.n_tracks;
+    let r = reports.reports()?;
+    let align = alignment.alignment()?;
     let grid = slice("times", &times)?;
     if let Some(k) = grid.iter().position(|t| !t.is_finite()) {
         return Err(Error::NonFinite {

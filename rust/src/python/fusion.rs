@@ -7,9 +7,9 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use super::association::AssociationArgs;
+use super::association::{AlignmentArgs, AssociationArgs, DecisionsArg, ReportsArg};
 use super::{check_signals, detached, slice};
-use crate::association::align::{Alignment, TimeCover};
+use crate::association::align::TimeCover;
 use crate::association::candidates::{TrackPartial, PARTIAL_WIDTH};
 use crate::association::evidence::Counts;
 use crate::association::{self, posterior, PairStat, Picture};
@@ -31,23 +31,17 @@ const STAT_FIELDS: [&str; 9] = [
 /// Per pair `(a, b)` of a tile: the summary of its common instants (a dict of arrays named as
 /// the fields of `PairStat`; `pos` is `(n, 2)`).
 #[pyfunction]
-#[pyo3(signature = (track, source, time, aou, n_tracks, a, b, *, geographic, options,
-    stream_ids=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (reports, a, b, *, options, stream_ids=None))]
 fn association_pair_stats<'py>(
     py: Python<'py>,
-    track: PyReadonlyArray1<'py, u32>,
-    source: PyReadonlyArray1<'py, u32>,
-    time: PyReadonlyArray1<'py, f64>,
-    aou: PyReadonlyArray2<'py, f64>,
-    n_tracks: usize,
+    reports: ReportsArg<'py>,
     a: PyReadonlyArray1<'py, u32>,
     b: PyReadonlyArray1<'py, u32>,
-    geographic: bool,
     options: AssociationArgs,
     stream_ids: Option<PyReadonlyArray1<'py, u32>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let r = super::association::reports(&track, &source, &time, &aou, n_tracks, geographic)?;
+    let n_tracks = reports.n_tracks;
+    let r = reports.reports()?;
     let r = match &stream_ids {
         Some(ids) => r.with_stream_ids(slice("stream_ids", ids)?)?,
         None => r,
@@ -103,19 +97,13 @@ pub(super) fn stats_dict<'py>(py: Python<'py>, out: &[PairStat]) -> PyResult<Bou
 /// and when each track has a state (`align::TimeCover`: a dict of `cover_offsets`, one more than
 /// tracks, and `cover_start`, `cover_end`, one per chain).
 #[pyfunction]
-#[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic, options))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (reports, *, options))]
 fn association_track_summary<'py>(
     py: Python<'py>,
-    track: PyReadonlyArray1<'py, u32>,
-    source: PyReadonlyArray1<'py, u32>,
-    time: PyReadonlyArray1<'py, f64>,
-    aou: PyReadonlyArray2<'py, f64>,
-    n_tracks: usize,
-    geographic: bool,
+    reports: ReportsArg<'py>,
     options: AssociationArgs,
 ) -> PyResult<(Bound<'py, PyDict>, Bound<'py, PyDict>)> {
-    let r = super::association::reports(&track, &source, &time, &aou, n_tracks, geographic)?;
+    let r = reports.reports()?;
     let o = options.options()?;
     let (counts, cover) = py.detach(|| {
         (
@@ -150,50 +138,51 @@ pub(super) fn counts_dict<'py>(py: Python<'py>, c: &Counts) -> PyResult<Bound<'p
     Ok(d)
 }
 
-/// The global step of `associate` on gathered pairs `(a, b)` (sorted, `a < b`, each with at
-/// least one instant) with their summaries `stats` (as `association_pair_stats` returns them),
-/// the tracks' `source` and `spread`, their coverage (`cover_offsets`, `cover_start`,
-/// `cover_end`: the chains of every track, as `association_track_summary` returns them), the picture
-/// `counts` of parts that together
-/// hold every track once (a list of the counts `association_track_summary` returns; merged here) and
-/// operator decisions. Returns the same dict as `associate`.
-#[pyfunction]
-#[pyo3(signature = (source, spread, cover_offsets, cover_start, cover_end, a, b, stats, counts,
-    decision_a, decision_b,
-    decision_same, decision_row, *, geographic, options, candidates))]
-#[allow(clippy::too_many_arguments)]
-fn association_finish<'py>(
-    py: Python<'py>,
+/// The tracks of the global step: a mapping of arrays with one row per track, `source` and
+/// `spread`, and the chains of every track (`cover_offsets`, one more, and `cover_start`,
+/// `cover_end`, one per chain), as `association_track_summary` returns them.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+struct TracksArg<'py> {
     source: PyReadonlyArray1<'py, u32>,
     spread: PyReadonlyArray1<'py, f64>,
     cover_offsets: PyReadonlyArray1<'py, u32>,
     cover_start: PyReadonlyArray1<'py, f64>,
     cover_end: PyReadonlyArray1<'py, f64>,
-    a: PyReadonlyArray1<'py, u32>,
-    b: PyReadonlyArray1<'py, u32>,
-    stats: Bound<'py, PyDict>,
+}
+
+/// The global step of `associate` on gathered `pairs` (a mapping: `a`, `b`, sorted, `a < b`,
+/// each with at least one instant; their summaries as `association_pair_stats` returns them;
+/// `candidates`, the number of candidate pairs before those without instants were dropped),
+/// the `tracks` (see `TracksArg`), the picture `counts` of parts that together hold every
+/// track once (a list of the counts `association_track_summary` returns; merged here) and
+/// operator `decisions`. Returns the same dict as `associate`.
+#[pyfunction]
+#[pyo3(signature = (tracks, pairs, counts, decisions, *, geographic, options))]
+fn association_finish<'py>(
+    py: Python<'py>,
+    tracks: TracksArg<'py>,
+    pairs: Bound<'py, PyDict>,
     counts: Vec<Bound<'py, PyDict>>,
-    decision_a: PyReadonlyArray1<'py, u32>,
-    decision_b: PyReadonlyArray1<'py, u32>,
-    decision_same: PyReadonlyArray1<'py, bool>,
-    decision_row: PyReadonlyArray1<'py, u64>,
+    decisions: DecisionsArg<'py>,
     geographic: bool,
     options: AssociationArgs,
-    candidates: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let o = options.options()?;
-    let dec =
-        super::association::decisions(&decision_a, &decision_b, &decision_same, &decision_row)?;
-    let (src, sp) = (slice("source", &source)?, slice("spread", &spread)?);
-    let (c0, c1) = (
-        slice("cover_start", &cover_start)?,
-        slice("cover_end", &cover_end)?,
+    let dec = decisions.decisions()?;
+    let (src, sp) = (
+        slice("source", &tracks.source)?,
+        slice("spread", &tracks.spread)?,
     );
-    let offsets = slice("cover_offsets", &cover_offsets)?;
+    let (c0, c1) = (
+        slice("cover_start", &tracks.cover_start)?,
+        slice("cover_end", &tracks.cover_end)?,
+    );
+    let offsets = slice("cover_offsets", &tracks.cover_offsets)?;
     if sp.len() != src.len() || offsets.len() != src.len() + 1 || c0.len() != c1.len() {
         return Err(Error::Invalid(
-            "source and spread must have one row per track, cover_offsets one more, and \
-             cover_start and cover_end the same length"
+            "tracks: source and spread must have one row per track, cover_offsets one more, \
+             and cover_start and cover_end the same length"
                 .into(),
         )
         .into());
@@ -214,16 +203,22 @@ fn association_finish<'py>(
             }
         })
         .collect();
+    let item = |name: &'static str| -> PyResult<Bound<'py, PyAny>> {
+        pairs
+            .get_item(name)?
+            .ok_or_else(|| Error::Invalid(format!("pairs: missing '{name}'")).into())
+    };
+    let (a, b): (PyReadonlyArray1<'_, u32>, PyReadonlyArray1<'_, u32>) =
+        (item("a")?.extract()?, item("b")?.extract()?);
+    let candidates: usize = item("candidates")?.extract()?;
     let (sa, sb) = (slice("a", &a)?, slice("b", &b)?);
     let get = |name: &'static str| -> PyResult<Vec<f64>> {
-        let v = stats
-            .get_item(name)?
-            .ok_or_else(|| Error::Invalid(format!("stats: missing '{name}'")))?;
+        let v = item(name)?;
         let arr: PyReadonlyArray1<'_, f64> = v.extract()?;
         let s = slice(name, &arr)?.to_vec();
         if s.len() != sa.len() {
             return Err(Error::Invalid(format!(
-                "stats: '{name}' has {} rows for {} pairs",
+                "pairs: '{name}' has {} rows for {} pairs",
                 s.len(),
                 sa.len()
             ))
@@ -237,13 +232,12 @@ fn association_finish<'py>(
         .map(|f| get(f))
         .collect::<PyResult<_>>()?;
     let (p0, p1) = (get("pos_0")?, get("pos_1")?);
-    let instants: PyReadonlyArray1<'_, u32> = stats
-        .get_item("instants")?
-        .ok_or_else(|| Error::Invalid("stats: missing 'instants'".into()))?
-        .extract()?;
+    let instants: PyReadonlyArray1<'_, u32> = item("instants")?.extract()?;
     let instants = slice("instants", &instants)?;
     if sb.len() != sa.len() || instants.len() != sa.len() {
-        return Err(Error::Invalid("a, b and stats must have the same length".into()).into());
+        return Err(
+            Error::Invalid("pairs: a, b and instants must have the same length".into()).into(),
+        );
     }
     let kept: Vec<((u32, u32), PairStat)> = (0..sa.len())
         .map(|i| {
@@ -321,42 +315,16 @@ fn counts_of(k: usize, d: &Bound<'_, PyDict>, geographic: bool, cell: f64) -> Py
     })
 }
 
-/// The alignment options of a binding, given as one dict.
-#[derive(FromPyObject)]
-#[pyo3(from_item_all)]
-pub(super) struct AlignmentArgs {
-    max_gap: f64,
-    horizon: f64,
-    process_noise: f64,
-}
-
-impl AlignmentArgs {
-    pub(super) fn alignment(&self) -> PyResult<Alignment> {
-        Ok(Alignment {
-            max_gap: self.max_gap,
-            horizon: self.horizon,
-            process_noise: self.process_noise,
-        }
-        .validated()?)
-    }
-}
-
 /// The mergeable partial of every track of some reports (`candidates::TrackPartial`): an
 /// `(n_tracks, PARTIAL_WIDTH)` array, one opaque row per track, for
 /// `association_track_boxes`.
 #[pyfunction]
-#[pyo3(signature = (track, source, time, aou, n_tracks, *, geographic))]
+#[pyo3(signature = (reports,))]
 fn association_track_partials<'py>(
     py: Python<'py>,
-    track: PyReadonlyArray1<'py, u32>,
-    source: PyReadonlyArray1<'py, u32>,
-    time: PyReadonlyArray1<'py, f64>,
-    aou: PyReadonlyArray2<'py, f64>,
-    n_tracks: usize,
-    geographic: bool,
+    reports: ReportsArg<'py>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let r = super::association::reports(&track, &source, &time, &aou, n_tracks, geographic)?;
-    let rows = super::association::rows5(&aou)?;
+    let (r, rows, n_tracks) = (reports.reports()?, reports.rows()?, reports.n_tracks);
     let flat: Vec<f64> = py.detach(|| {
         TrackPartial::of(&r, &rows)
             .iter()
