@@ -329,7 +329,6 @@ pub struct PairEvidence {
 /// `L` of a scored pair (see the module docs): `stat` from [`super::pair_stat`], `c` the
 /// covariance inflation of its sources, `q` the process noise (m^2/s) and `tau` the correlation
 /// time (s).
-#[allow(clippy::too_many_arguments)]
 pub fn log_likelihood_ratio(
     stat: &PairStat,
     c: f64,

@@ -506,88 +506,74 @@ struct Marginals {
     weights: Vec<f64>,
 }
 
-fn enumerate(comp: &Component, limit: usize) -> Option<(Vec<Vec<u32>>, Vec<f64>)> {
-    let nb = comp.blocks.len();
-    let mut out_labels = Vec::new();
-    let mut out_logw = Vec::new();
-    let mut labels = vec![0u32; nb];
-    let mut cells: Vec<Vec<u32>> = Vec::new();
-    let mut scratch = Vec::new();
-    // depth-first over restricted growth strings
-    #[allow(clippy::too_many_arguments)]
-    fn rec(
-        comp: &Component,
-        k: usize,
-        labels: &mut [u32],
-        cells: &mut Vec<Vec<u32>>,
-        out_labels: &mut Vec<Vec<u32>>,
-        out_logw: &mut Vec<f64>,
-        scratch: &mut Vec<u32>,
-        limit: usize,
-    ) -> bool {
+/// The depth-first walk of [`enumerate`] over restricted growth strings: block `k` joins each
+/// compatible cell of blocks `0..k`, or opens a new one.
+struct Walk<'a> {
+    comp: &'a Component,
+    labels: Vec<u32>,
+    cells: Vec<Vec<u32>>,
+    out_labels: Vec<Vec<u32>>,
+    out_logw: Vec<f64>,
+    scratch: Vec<u32>,
+    limit: usize,
+}
+
+impl Walk<'_> {
+    /// Places blocks `k..`; false when the limit is exceeded.
+    fn rec(&mut self, k: usize) -> bool {
+        let comp = self.comp;
         if k == comp.blocks.len() {
-            let w: f64 = cells.iter().map(|c| comp.cell_weight(c, scratch)).sum();
+            let mut w = 0.0;
+            for c in &self.cells {
+                w += comp.cell_weight(c, &mut self.scratch);
+            }
             if w > f64::NEG_INFINITY {
-                if out_labels.len() >= limit {
+                if self.out_labels.len() >= self.limit {
                     return false;
                 }
-                out_labels.push(labels.to_vec());
-                out_logw.push(w);
+                self.out_labels.push(self.labels.clone());
+                self.out_logw.push(w);
             }
             return true;
         }
         let block = &comp.blocks[k];
-        for c in 0..cells.len() {
-            if comp.compatible(&cells[c], block) {
-                labels[k] = c as u32;
-                let before = cells[c].len();
-                cells[c].extend_from_slice(block);
-                let ok = rec(
-                    comp,
-                    k + 1,
-                    labels,
-                    cells,
-                    out_labels,
-                    out_logw,
-                    scratch,
-                    limit,
-                );
-                cells[c].truncate(before);
+        for c in 0..self.cells.len() {
+            if comp.compatible(&self.cells[c], block) {
+                self.labels[k] = c as u32;
+                let before = self.cells[c].len();
+                self.cells[c].extend_from_slice(block);
+                let ok = self.rec(k + 1);
+                self.cells[c].truncate(before);
                 if !ok {
                     return false;
                 }
             }
         }
-        labels[k] = cells.len() as u32;
-        cells.push(block.clone());
-        let ok = rec(
-            comp,
-            k + 1,
-            labels,
-            cells,
-            out_labels,
-            out_logw,
-            scratch,
-            limit,
-        );
-        cells.pop();
+        self.labels[k] = self.cells.len() as u32;
+        self.cells.push(block.clone());
+        let ok = self.rec(k + 1);
+        self.cells.pop();
         ok
     }
+}
+
+fn enumerate(comp: &Component, limit: usize) -> Option<(Vec<Vec<u32>>, Vec<f64>)> {
+    let nb = comp.blocks.len();
     // a quick bound: components of many blocks cannot be enumerated within the limit
     if nb > 24 {
         return None;
     }
-    if rec(
+    let mut walk = Walk {
         comp,
-        0,
-        &mut labels,
-        &mut cells,
-        &mut out_labels,
-        &mut out_logw,
-        &mut scratch,
+        labels: vec![0u32; nb],
+        cells: Vec::new(),
+        out_labels: Vec::new(),
+        out_logw: Vec::new(),
+        scratch: Vec::new(),
         limit,
-    ) {
-        Some((out_labels, out_logw))
+    };
+    if walk.rec(0) {
+        Some((walk.out_labels, walk.out_logw))
     } else {
         None
     }
