@@ -1,5 +1,6 @@
 """The `geofeas score` command on the bundled example and on malformed files."""
 
+import argparse
 import csv
 import subprocess
 import sys
@@ -208,3 +209,14 @@ def test_associate_flags_removed_with_the_rules(tmp_path, capsys):
         with pytest.raises(SystemExit):
             main(["associate", str(src), "--out", str(tmp_path / "o.csv"), flag, "0.5"])
         assert flag in capsys.readouterr().err
+
+
+def test_help_texts_are_plain_text():
+    from geofeas.cli import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    for name, command in sub.choices.items():
+        text = command.format_help()
+        assert "``" not in text and ":func:" not in text, name
+        assert "seed 00" not in text, name

@@ -21,9 +21,7 @@ import time
 from typing import Any
 
 from .association import (
-    ASSOCIATION_DEFAULTS,
-    COMBINE_RULES,
-    SCORES,
+    OPTIONS,
     associate,
     read_reports,
     write_tables,
@@ -45,24 +43,11 @@ def run(args: argparse.Namespace) -> int:
         options["seed"] = args.seed
     if args.threshold:
         options["threshold"] = True
-    result = associate(
-        reports,
-        decisions=args.decisions,
-        score=args.score,
-        combine=args.combine,
-        p_match=args.p_match,
-        p_reject=args.p_reject,
-        max_gap=args.max_gap,
-        horizon=args.horizon,
-        process_noise=args.process_noise,
-        same_source=args.same_source,
-        correlation_time=args.correlation_time,
-        window=args.window,
-        inflation=args.inflation if args.inflation == "auto" else float(args.inflation),
-        completeness=args.completeness,
-        false_tracks=args.false_tracks,
-        **options,
-    )
+    for o in OPTIONS:  # every option of the schema has its flag
+        options[o["name"]] = getattr(args, o["name"])
+    if options["inflation"] != "auto":
+        options["inflation"] = float(options["inflation"])
+    result = associate(reports, decisions=args.decisions, **options)
     pairs = result.pairs if args.details else result.pairs[list(PAIR_COLUMNS)]
     # one transaction: neither file is replaced unless both were written
     tables = [(pairs, args.out)]
@@ -97,21 +82,26 @@ def _inflation(text: str) -> str:
     return text
 
 
+def _option_flag(p: Any, o: dict[str, Any]) -> None:
+    """The flag of one option of the schema (:data:`geofeas.association.OPTIONS`)."""
+    name, default = o["name"], o["default"]
+    flag = "--" + name.replace("_", "-")
+    help = f"{o['help']} (default {default})"
+    if isinstance(default, bool):
+        p.add_argument(flag, action="store_true", default=default, help=o["help"])
+    elif name == "inflation":
+        p.add_argument(flag, type=_inflation, default=default, help=help)
+    elif o["choices"]:
+        p.add_argument(flag, choices=o["choices"], default=default, help=help)
+    else:
+        p.add_argument(flag, type=type(default), default=default, help=help)
+
+
 def add_triage_arguments(p: argparse.ArgumentParser) -> None:
     """The triage thresholds, with the defaults of :func:`geofeas.associate`."""
-    defaults = ASSOCIATION_DEFAULTS
-    p.add_argument(
-        "--p-match",
-        type=float,
-        default=defaults["p_match"],
-        help=f"match when p_same >= this (default {defaults['p_match']})",
-    )
-    p.add_argument(
-        "--p-reject",
-        type=float,
-        default=defaults["p_reject"],
-        help=f"non-match when p_same <= this (default {defaults['p_reject']})",
-    )
+    for o in OPTIONS:
+        if o["name"] in ("p_match", "p_reject"):
+            _option_flag(p, o)
 
 
 def add_parser(sub: Any) -> None:
@@ -124,58 +114,35 @@ def add_parser(sub: Any) -> None:
     p.add_argument("reports", help="reports file (.csv or .parquet)")
     p.add_argument("--out", "-o", required=True, help="pairs file to write (.csv or .parquet)")
     p.add_argument("--objects", help="also write the track -> object table to this file")
-    p.add_argument("--coords", choices=("auto", "planar", "geographic"), default="auto")
-    p.add_argument("--score", choices=SCORES, default="glr", help="per-instant score")
     p.add_argument(
-        "--combine", choices=COMBINE_RULES, default="chi2", help="combination rule (default chi2)"
+        "--coords",
+        choices=("auto", "planar", "geographic"),
+        default="auto",
+        help="how the reports' positions are read: planar x, y or geographic lat, lon "
+        "(default auto: from the columns present)",
     )
     p.add_argument(
         "--decisions", help="operator decisions to respect (.csv or .parquet; read only)"
-    )
-    add_triage_arguments(p)
-    p.add_argument(
-        "--completeness",
-        type=float,
-        default=0.95,
-        help="share of the objects the most complete source holds (default 0.95)",
-    )
-    p.add_argument(
-        "--false-tracks",
-        type=float,
-        default=0.05,
-        help="share of each source's tracks that are false (default 0.05)",
     )
     p.add_argument(
         "--details",
         action="store_true",
         help="also write the model's columns (llr, std_error, review_gain, settles_*, component)",
     )
-    p.add_argument("--max-gap", type=float, default=300.0, help="longest interpolated gap (s)")
-    p.add_argument("--horizon", type=float, default=0.0, help="extrapolation horizon (s)")
-    p.add_argument("--process-noise", type=float, default=2.0, help="position diffusion q (m^2/s)")
-    p.add_argument(
-        "--same-source", action="store_true", help="also compare tracks of the same source"
-    )
-    p.add_argument(
-        "--correlation-time", type=float, default=60.0, help="error correlation time (s)"
-    )
-    p.add_argument("--window", type=float, default=300.0, help="index chunk length (s)")
-    p.add_argument(
+    options = p.add_argument_group("association options (geofeas.associate's keywords)")
+    for o in OPTIONS:
+        _option_flag(options, o)
+    scores = p.add_argument_group("options of the score column's score")
+    scores.add_argument(
         "--threshold", action="store_true", help="thresholded GLR (same as glr_threshold)"
     )
-    p.add_argument(
-        "--inflation",
-        default="auto",
-        type=_inflation,
-        help="covariance inflation: 'auto' (default) or a number",
-    )
-    p.add_argument(
+    scores.add_argument(
         "--vertices",
         type=int,
         default=None,
         help="overlap by polygons of this many vertices (default: the exact overlap)",
     )
-    p.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per instant")
-    p.add_argument("--seed", type=int, default=0, help="Monte-Carlo seed")
+    scores.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per instant")
+    scores.add_argument("--seed", type=int, default=0, help="Monte-Carlo seed")
     p.add_argument("--quiet", "-q", action="store_true", help="no summary on standard output")
     p.set_defaults(func=run)

@@ -15,6 +15,7 @@ __all__ = [
     "association_default_upper",
     "association_finish",
     "association_pair_instants",
+    "association_options",
     "association_pair_stats",
     "association_states_at",
     "association_track_boxes",
@@ -302,6 +303,7 @@ def associate(
     *,
     options: Mapping[str, Any],
 ) -> dict[str, Any]: ...
+def association_options() -> list[dict[str, Any]]: ...
 def association_candidates(
     reports: _ReportColumns,
     *,

@@ -41,17 +41,14 @@ PLANAR = ("x", "y", "rx", "ry", "phi")
 GEOGRAPHIC = ("lat", "lon", "rx", "ry", "bearing")
 #: Columns every report needs.
 REQUIRED = ("track_id", "source", "time")
+#: The options of :func:`associate`, defined once in the core (``association::schema``): dicts
+#: of ``name``, ``default``, ``choices`` and ``help``, in signature order.
+OPTIONS: tuple[dict[str, Any], ...] = tuple(_core.association_options())
+_CHOICES = {o["name"]: tuple(o["choices"]) for o in OPTIONS}
 #: Combination rules of :func:`associate` (``"chi2"`` is the calibrated default).
-COMBINE_RULES = ("chi2", "pvalue", "geometric", "harmonic", "arithmetic", "min")
+COMBINE_RULES: tuple[str, ...] = _CHOICES["combine"]
 #: Scores of :func:`associate` (``"glr_threshold"`` is ``"glr"`` with ``threshold=True``).
-SCORES = (
-    "glr",
-    "glr_threshold",
-    "overlap",
-    "monte_carlo",
-    "bhattacharyya",
-    "gaussian_product",
-)
+SCORES: tuple[str, ...] = _CHOICES["score"]
 #: The ``"chi2"`` score of a fit like one instant 2 sigma apart (a reference on the score
 #: column's scale; the classes come from the posterior).
 DEFAULT_UPPER: float = _core.association_default_upper()
@@ -790,27 +787,21 @@ def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, 
     return score, opts
 
 
-#: The defaults of :func:`associate`'s options (besides the score's own).
-ASSOCIATION_DEFAULTS: dict[str, Any] = dict(
-    score="glr",
-    combine="chi2",
-    p_match=0.99,
-    p_reject=0.01,
-    max_gap=300.0,
-    horizon=0.0,
-    process_noise=2.0,
-    same_source=False,
-    correlation_time=60.0,
-    window=300.0,
-    inflation="auto",
-    completeness=0.95,
-    false_tracks=0.05,
-    density_cell=2000.0,
-    exact_limit=20_000,
-    chains=4,
-    sweeps=400,
-    posterior_seed=0,
-)
+#: The defaults of :func:`associate`'s options (besides the score's own), from :data:`OPTIONS`.
+ASSOCIATION_DEFAULTS: dict[str, Any] = {o["name"]: o["default"] for o in OPTIONS}
+
+
+def _options_markdown() -> str:
+    """The options table of ``docs/association.md``, rendered from :data:`OPTIONS`
+    (``python scripts/options_doc.py`` writes it; a test checks the page)."""
+    rows = ["| option | default | `geofeas associate` | meaning |", "|---|---|---|---|"]
+    for o in OPTIONS:
+        flag = "--" + o["name"].replace("_", "-")
+        choices = f" (one of {', '.join(o['choices'])})" if o["choices"] else ""
+        rows.append(f"| `{o['name']}` | `{o['default']!r}` | `{flag}` | {o['help']}{choices} |")
+    return "\n".join(rows) + "\n"
+
+
 _SCORE_DEFAULTS: dict[str, Any] = dict(
     threshold=False, method="exact", vertices=256, samples=500, seed=0, sampler="importance"
 )
@@ -911,7 +902,7 @@ def associate(
         Operator decisions (``track_a, track_b, decision`` with ``same`` / ``different``,
         optionally ``operator, time``; see :func:`geofeas.read_decisions`): hard constraints.
         Contradictory decisions are refused with an error naming their rows.
-    score : {"glr", "glr_threshold", "overlap", "monte_carlo", "bhattacharyya", "gaussian_product"}
+    score : one of :data:`SCORES`
         Per-instant geofeasibility score of the ``score`` column (seed 000).
     combine : {"chi2", "pvalue", "geometric", "harmonic", "arithmetic", "min"}
         How the per-instant scores become the ``score`` column (``"chi2"``: 0.5 means "fits

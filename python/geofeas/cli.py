@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 from collections.abc import Sequence
 
@@ -31,7 +32,29 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in SUBCOMMANDS:
         importlib.import_module(f"geofeas.{name}").add_parser(sub)
+    for command in sub.choices.values():  # the modules' docstrings, as a terminal shows them
+        if command.description:
+            command.description = plain(command.description)
+        for action in command._actions:
+            if action.help:
+                action.help = plain(action.help)
     return parser
+
+
+#: The project's names of its specification papers, as a reader of ``--help`` knows them.
+_PAPERS = {
+    "000": "the geofeasibility paper",
+    "003": "the particle-filter paper",
+    "004": "the distributed-radar MHT paper",
+}
+
+
+def plain(text: str) -> str:
+    """Help text without reStructuredText markup (````x```` and ``:func:`x```` become ``x``)
+    and with the papers named instead of numbered."""
+    text = re.sub(r"(?::\w+:)?`+([^`]+)`+", r"\1", text)
+    text = re.sub(r"seeds? (000|003|004)", lambda m: _PAPERS[m.group(1)], text)
+    return text
 
 
 #: Exit code of a run refused for its input (bad data, options or files); 1 is kept for

@@ -28,6 +28,7 @@ pub mod evidence;
 pub mod geodesy;
 pub mod posterior;
 pub mod reports;
+pub mod schema;
 
 use rayon::prelude::*;
 

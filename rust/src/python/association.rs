@@ -516,7 +516,31 @@ fn project_aeqd<'py>(
     Ok(flat.into_pyarray(py).reshape([n, 5])?.into_any())
 }
 
+/// The options of `geofeas.associate`, defined once in the core (`association::schema`): a
+/// list of dicts `name`, `default`, `choices`, `help`, in signature order.
+#[pyfunction]
+fn association_options(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
+    use crate::association::schema::{options, Value};
+    options()
+        .into_iter()
+        .map(|o| {
+            let d = PyDict::new(py);
+            d.set_item("name", o.name)?;
+            match o.default {
+                Value::Float(v) => d.set_item("default", v)?,
+                Value::Int(v) => d.set_item("default", v)?,
+                Value::Bool(v) => d.set_item("default", v)?,
+                Value::Text(v) => d.set_item("default", v)?,
+            }
+            d.set_item("choices", o.choices)?;
+            d.set_item("help", o.help)?;
+            Ok(d)
+        })
+        .collect()
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(association_options, m)?)?;
     m.add_function(wrap_pyfunction!(associate, m)?)?;
     m.add_function(wrap_pyfunction!(association_candidates, m)?)?;
     m.add_function(wrap_pyfunction!(combine_instants, m)?)?;

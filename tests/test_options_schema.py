@@ -1,0 +1,67 @@
+"""One definition of the association options (the core's ``association::schema``): the Python
+signature, the defaults, the ``geofeas associate`` flags and the docs table are checked against
+it, so any of them drifting fails here."""
+
+from __future__ import annotations
+
+import argparse
+import inspect
+from pathlib import Path
+
+import geofeas
+import geofeas.dask
+from geofeas import _cli_associate
+from geofeas._core import association_options
+from geofeas.association import ASSOCIATION_DEFAULTS, OPTIONS, _options_markdown
+
+DOC = Path(__file__).resolve().parents[1] / "docs" / "association.md"
+BEGIN, END = "<!-- options: begin -->\n", "<!-- options: end -->"
+
+
+def _schema() -> list[tuple[str, object]]:
+    return [(o["name"], o["default"]) for o in association_options()]
+
+
+def test_python_signature_is_the_schema():
+    params = inspect.signature(geofeas.associate).parameters.values()
+    kw = [(p.name, p.default) for p in params if p.kind is p.KEYWORD_ONLY and p.name != "decisions"]
+    assert kw == _schema()
+    # the defaults of the same type (0 is not 0.0: an int default would change the CLI's type)
+    for (name, default), (_, want) in zip(kw, _schema(), strict=True):
+        assert type(default) is type(want), name
+    assert list(ASSOCIATION_DEFAULTS.items()) == _schema()
+    assert [o["name"] for o in OPTIONS] == [n for n, _ in _schema()]
+
+
+def test_dask_and_with_decisions_resolve_the_same_names():
+    # geofeas.dask.associate takes the options as keywords and checks them against the schema
+    doc = geofeas.dask.associate.__doc__ or ""
+    assert "geofeas.associate" in doc
+    params = inspect.signature(geofeas.dask.associate).parameters
+    assert any(p.kind is p.VAR_KEYWORD for p in params.values())
+
+
+def _parser() -> argparse.ArgumentParser:
+    root = argparse.ArgumentParser()
+    _cli_associate.add_parser(root.add_subparsers())
+    sub = next(a for a in root._actions if isinstance(a, argparse._SubParsersAction))
+    return sub.choices["associate"]
+
+
+def test_cli_has_one_flag_per_option_with_its_default_and_choices():
+    p = _parser()
+    by_dest = {a.dest: a for a in p._actions}
+    for o in association_options():
+        a = by_dest[o["name"]]
+        assert "--" + o["name"].replace("_", "-") in a.option_strings
+        assert a.default == o["default"] and type(a.default) is type(o["default"]), o["name"]
+        if o["choices"]:
+            assert list(a.choices) == o["choices"]
+        assert a.help, o["name"]
+
+
+def test_docs_table_is_rendered_from_the_schema():
+    text = DOC.read_text(encoding="utf-8")
+    assert BEGIN in text and END in text, "docs/association.md lost its options table markers"
+    table = text.split(BEGIN, 1)[1].split(END, 1)[0]
+    assert table == _options_markdown(), "run: python scripts/options_doc.py"
