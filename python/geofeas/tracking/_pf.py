@@ -204,7 +204,8 @@ def pf_simulate_run(
         ``correct`` ``(F, 4)`` (the peak taken is nearest to the filter's own target),
         ``pca`` ``(4,)``, ``residuals`` ``(F, 4, 2)`` (Fig. 12 mean and sd), ``ess``,
         ``snapshots`` rows ``[frame, filter, x, y]``, ``frames`` ``(len(keep_frames), 256, 256)``,
-        ``sigma_z``, ``dt`` and ``times`` ``(F,)``.
+        ``sigma_z``, ``dt``, ``times`` ``(F,)`` and ``filter_seed`` (the seed of the filters'
+        particles: :func:`pf_track` with it on the run's frames reproduces the run exactly).
     """
     out = dict(
         _core.pf_simulate_run(

@@ -11,9 +11,9 @@ use super::{check_signals, detached};
 use crate::error::{Error, Result};
 use crate::score::monte_carlo::stream;
 use crate::tracking::pf::{
-    find_peaks, peak_label, study, Association, Bank, Cell, Frame, LikelihoodModel, Method, Ncv,
-    Particles, PeakOptions, PfConfig, Psf, Resampling, RunSpec, Scenario, Step, StudyOptions,
-    TruthModel,
+    find_peaks, peak_label, study, track_frames, track_truth, Association, Bank, Cell, Frame,
+    LikelihoodModel, Method, Ncv, Particles, PeakOptions, PfConfig, Psf, Resampling, RunSpec,
+    Scenario, Step, StudyOptions, TruthModel,
 };
 
 /// Filter options shared by the tracking entry points.
@@ -118,6 +118,15 @@ fn points2<'a>(what: &'static str, arr: &'a PyReadonlyArray2<'_, f64>) -> PyResu
         .into());
     }
     Ok(flat)
+}
+
+/// The interrupt hook of the frame loop: Ctrl-C is checked every tenth frame.
+fn every_tenth_frame() -> impl FnMut() -> bool {
+    let mut k = 0usize;
+    move || {
+        k += 1;
+        (k - 1) % 10 == 0 && check_signals()
+    }
 }
 
 fn method_of(n: u32) -> Result<Method> {
@@ -286,49 +295,48 @@ fn pf_simulate_run<'py>(
         }
     }
     let targets = spec.scenario.starts.len();
-    let (width, height, dt, sigma_z) = (
+    let (width, height, dt, sigma_z, filter_seed) = (
         spec.scenario.width,
         spec.scenario.height,
         spec.scenario.dt,
         spec.sigma_z(),
+        spec.filter_seed(),
     );
     let (rec, truth_rows, correct, snaps, kept) = detached(py, move || {
         let truth = spec.truth();
-        let init: Vec<[f64; 4]> = truth.states[0].iter().map(|s| s.xv()).collect();
-        let mut bank = Bank::new(&init, cfg, spec.filter_seed())?;
         let mut rec = Recorder::new(targets, cfg.peaks.count);
         let mut correct = Vec::with_capacity(n_frames * targets);
         let mut snaps = Vec::new();
         let mut kept = Vec::new();
-        for k in 0..n_frames {
-            if k % 10 == 0 && check_signals() {
-                return Err(Error::Interrupted);
-            }
-            let frame = spec.frame(&truth, k);
-            // Particles before this frame's resampling are the prior cloud; the cloud after it
-            // is the equally weighted posterior, which the snapshot shows.
-            let step = bank.step(&frame);
-            for (i, r) in step.filters.iter().enumerate() {
-                let ok = r
-                    .peak
-                    .is_some_and(|j| peak_label(&step.peaks[j], &truth.states[k]) == Some(i));
-                correct.push(ok);
-            }
-            rec.push(&step);
-            if snapshot_frames.contains(&k) {
-                for i in 0..targets {
-                    let p: &Particles = bank.particles(i);
-                    let m = snapshot_particles.min(p.len()).max(1);
-                    let stride = (p.len() / m).max(1);
-                    for n in (0..p.len()).step_by(stride).take(m) {
-                        snaps.extend_from_slice(&[k as f64, i as f64, p.x[n], p.y[n]]);
+        track_truth(
+            &spec,
+            &truth,
+            &[cfg],
+            |_, k, frame, step, bank| {
+                for (i, r) in step.filters.iter().enumerate() {
+                    let ok = r
+                        .peak
+                        .is_some_and(|j| peak_label(&step.peaks[j], &truth.states[k]) == Some(i));
+                    correct.push(ok);
+                }
+                rec.push(step);
+                // The cloud after this frame's resampling: the equally weighted posterior.
+                if snapshot_frames.contains(&k) {
+                    for i in 0..targets {
+                        let p: &Particles = bank.particles(i);
+                        let m = snapshot_particles.min(p.len()).max(1);
+                        let stride = (p.len() / m).max(1);
+                        for n in (0..p.len()).step_by(stride).take(m) {
+                            snaps.extend_from_slice(&[k as f64, i as f64, p.x[n], p.y[n]]);
+                        }
                     }
                 }
-            }
-            if keep_frames.contains(&k) {
-                kept.extend_from_slice(&frame.data);
-            }
-        }
+                if keep_frames.contains(&k) {
+                    kept.extend_from_slice(&frame.data);
+                }
+            },
+            &mut every_tenth_frame(),
+        )?;
         let mut rows = Vec::with_capacity(n_frames * targets * 8);
         for row in &truth.states {
             for s in row {
@@ -354,6 +362,7 @@ fn pf_simulate_run<'py>(
     )?;
     out.set_item("sigma_z", sigma_z)?;
     out.set_item("dt", dt)?;
+    out.set_item("filter_seed", filter_seed)?;
     Ok(out)
 }
 
@@ -450,19 +459,18 @@ fn pf_track<'py>(
         .collect();
     let targets = init.len();
     let rec = detached(py, move || {
-        let mut bank = Bank::new(&init, cfg, seed)?;
         let mut rec = Recorder::new(targets, cfg.peaks.count);
-        for (k, chunk) in data.chunks_exact(h * w).enumerate() {
-            if k % 10 == 0 && check_signals() {
-                return Err(Error::Interrupted);
-            }
-            let frame = Frame {
-                width: w,
-                height: h,
-                data: chunk.to_vec(),
-            };
-            rec.push(&bank.step(&frame));
-        }
+        let frames = data.chunks_exact(h * w).map(|chunk| Frame {
+            width: w,
+            height: h,
+            data: chunk.to_vec(),
+        });
+        track_frames(
+            &mut [Bank::new(&init, cfg, seed)?],
+            frames,
+            |_, _, _, step, _| rec.push(step),
+            &mut every_tenth_frame(),
+        )?;
         Ok(rec)
     })?;
     let out = PyDict::new(py);

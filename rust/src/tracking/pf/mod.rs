@@ -13,7 +13,7 @@
 //!   one-to-one variant.
 //! - [`filter`]: one particle filter: update, estimate and 2-sigma bounds, Fig. 12 residuals.
 //! - [`bank`]: the bank of filters, frame by frame.
-//! - [`run`]: one seeded run (truth, frames, banks).
+//! - [`run`]: the frame loop ([`track_frames`]) and one seeded run (truth, frames, banks).
 //! - [`metrics`]: errors, probability of correct association, 2-sigma coverage, held tracks.
 //! - [`study`](mod@study): the Monte-Carlo reproduction of Figs. 7-20.
 //!
@@ -61,7 +61,7 @@ pub use metrics::{peak_label, BankMetrics, BankTally, FilterMetrics, FilterTally
 pub use motion::{Ncv, Particles};
 pub use peaks::{find_peaks, Peak, PeakOptions};
 pub use resample::Resampling;
-pub use run::{track_run, RunSpec};
+pub use run::{track_frames, track_run, track_truth, RunSpec};
 pub use scenario::{Scenario, TargetStart, Truth, TruthModel, TruthState};
 pub use study::{bootstrap, paper_cells, study, Cell, CellResult, StudyOptions};
 pub use weights::LikelihoodModel;

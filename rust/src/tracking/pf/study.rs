@@ -16,7 +16,7 @@ use crate::tracking::pf::bank::{Method, PfConfig};
 use crate::tracking::pf::metrics::{pooled, BankMetrics, BankTally, FilterMetrics, FilterTally};
 use crate::tracking::pf::peaks::PeakOptions;
 use crate::tracking::pf::resample::Resampling;
-use crate::tracking::pf::run::{track_run, RunSpec};
+use crate::tracking::pf::run::{track_truth, RunSpec};
 use crate::tracking::pf::scenario::Scenario;
 use crate::tracking::pf::weights::LikelihoodModel;
 
@@ -252,8 +252,9 @@ pub fn study(
                 let mut t = vec![vec![FilterTally::default(); targets]; members.len()];
                 let mut bt = vec![BankTally::default(); members.len()];
                 let truth_states = spec.truth();
-                track_run(
+                track_truth(
                     &spec,
+                    &truth_states,
                     &configs,
                     |b, k, _, step, _| {
                         for (i, ti) in t[b].iter_mut().enumerate() {
