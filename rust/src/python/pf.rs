@@ -11,7 +11,7 @@ use super::{check_signals, detached};
 use crate::error::{Error, Result};
 use crate::score::monte_carlo::stream;
 use crate::tracking::pf::{
-    find_peaks, peak_label, study, track_frames, track_truth, Association, Bank, Cell, Frame,
+    find_peaks, peak_label, study, track_frames, track_truth, Assignment, Bank, Cell, Frame,
     LikelihoodModel, Method, Ncv, Particles, PeakOptions, PfConfig, Psf, Resampling, RunSpec,
     Scenario, Step, StudyOptions, TruthModel,
 };
@@ -20,7 +20,7 @@ use crate::tracking::pf::{
 #[derive(Clone, Copy)]
 struct FilterArgs {
     particles: usize,
-    association: Association,
+    association: Assignment,
     resampling: Resampling,
     resample_threshold: f64,
     peaks: PeakOptions,
@@ -76,7 +76,7 @@ fn filter_args(
 ) -> Result<FilterArgs> {
     Ok(FilterArgs {
         particles,
-        association: Association::from_name(association)?,
+        association: Assignment::from_name(association)?,
         resampling: Resampling::from_name(resampling)?,
         resample_threshold,
         peaks: PeakOptions {
@@ -639,7 +639,7 @@ fn pf_study<'py>(
         runs,
         seed,
         particles,
-        association: Association::from_name(association)?,
+        association: Assignment::from_name(association)?,
         resampling: Resampling::from_name(resampling)?,
         peaks: PeakOptions {
             count: peaks,

@@ -1,4 +1,4 @@
-//! Association trackers: each sub-module is one tracker with its sensors, filters and study driver.
+//! Trackers: each sub-module is one tracker with its sensors, filters and study driver.
 //! [`gospa`] is the multi-target metric both trackers' studies report beside the papers' own.
 
 pub mod gospa;

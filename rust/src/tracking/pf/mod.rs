@@ -9,8 +9,8 @@
 //! - [`weights`]: Method 1 (distance to the associated peak) and Method 2 (the
 //!   track-before-detect likelihood ratio, separable point spread, log domain).
 //! - [`resample`]: systematic, stratified, multinomial and residual resampling.
-//! - [`association`]: the weighted-nearest-neighbour rule `R_i^j = sum_n w_i^n r_ij^n` and a
-//!   one-to-one variant.
+//! - [`assignment`]: which peak each filter takes: the weighted-nearest-neighbour rule
+//!   `R_i^j = sum_n w_i^n r_ij^n` and a one-to-one variant.
 //! - [`filter`]: one particle filter: update, estimate and 2-sigma bounds, Fig. 12 residuals.
 //! - [`bank`]: the bank of filters, frame by frame.
 //! - [`run`]: the frame loop ([`track_frames`]) and one seeded run (truth, frames, banks).
@@ -40,7 +40,7 @@
 //! }
 //! ```
 
-pub mod association;
+pub mod assignment;
 pub mod bank;
 pub mod filter;
 pub mod frame;
@@ -53,7 +53,11 @@ pub mod scenario;
 pub mod study;
 pub mod weights;
 
-pub use association::{weighted_distances, Association};
+pub use assignment::{weighted_distances, Assignment};
+
+/// The former name of [`Assignment`].
+#[deprecated(note = "renamed `Assignment` (module `assignment`)")]
+pub type Association = Assignment;
 pub use bank::{Bank, Method, PfConfig, Step, StepRecord};
 pub use filter::{Estimate, ParticleFilter};
 pub use frame::{noise_sigma, Frame, Psf};
