@@ -13,6 +13,7 @@
 //!   `R_i^j = sum_n w_i^n r_ij^n` and a one-to-one variant.
 //! - [`filter`]: one particle filter: update, estimate and 2-sigma bounds, Fig. 12 residuals.
 //! - [`bank`]: the bank of filters, frame by frame.
+//! - [`options`](mod@options): the option sets of the bank, a run, given frames and the study.
 //! - [`run`]: the frame loop ([`track_frames`]) and one seeded run (truth, frames, banks).
 //! - [`metrics`]: errors, probability of correct association, 2-sigma coverage, held tracks.
 //! - [`study`](mod@study): the Monte-Carlo reproduction of Figs. 7-20.
@@ -46,6 +47,7 @@ pub mod filter;
 pub mod frame;
 pub mod metrics;
 pub mod motion;
+pub mod options;
 pub mod peaks;
 pub mod resample;
 pub mod run;
@@ -63,6 +65,7 @@ pub use filter::{Estimate, ParticleFilter};
 pub use frame::{noise_sigma, Frame, Psf};
 pub use metrics::{peak_label, BankMetrics, BankTally, FilterMetrics, FilterTally};
 pub use motion::{Ncv, Particles};
+pub use options::{PfOptions, PfRunOptions, PfStudyOptions, PfTrackOptions, TruthKind};
 pub use peaks::{find_peaks, Peak, PeakOptions};
 pub use resample::Resampling;
 pub use run::{track_frames, track_run, track_truth, RunSpec};
