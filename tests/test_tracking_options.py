@@ -29,10 +29,10 @@ PF_FUNCTIONS = {
 }
 
 MHT_FUNCTIONS = {
-    _mht.track: (("tracker",), {"detections", "sensors"}),
-    _mht.simulate_run: (("run",), set()),
-    _mht.study: (("study",), set()),
-    _mht.trilaterate: (("beam",), {"pos_a", "z_a", "cov_a", "pos_b", "z_b", "cov_b"}),
+    _mht.mht_track: (("tracker",), {"detections", "sensors"}),
+    _mht.mht_simulate_run: (("run",), set()),
+    _mht.mht_study: (("study",), set()),
+    _mht.mht_trilaterate: (("beam",), {"pos_a", "z_a", "cov_a", "pos_b", "z_b", "cov_b"}),
 }
 
 PYTHON_TYPES = {"int": int, "float": float, "bool": bool}
@@ -248,10 +248,10 @@ def test_mht_bad_options_name_the_option() -> None:
         with pytest.raises(GeofeasError, match=name):
             _mht.MhtTracker(sensors, **kw)
     with pytest.raises(GeofeasError, match="trackers"):
-        _mht.study(runs=1, trackers="mht")
+        _mht.mht_study(runs=1, trackers="mht")
     with pytest.raises(GeofeasError, match="kalman"):
-        _mht.study(runs=1, trackers=["kalman"])
+        _mht.mht_study(runs=1, trackers=["kalman"])
     with pytest.raises(GeofeasError, match="level"):
-        _mht.study(runs=1, level=1.5, one_target=[0], two_targets=[])
+        _mht.mht_study(runs=1, level=1.5, one_target=[0], two_targets=[])
     with pytest.raises(GeofeasError, match="half_beam"):
-        _mht.trilaterate([0, 0], [20, 1], np.eye(2), [10, 0], [20, 1], np.eye(2), half_beam="x")
+        _mht.mht_trilaterate([0, 0], [20, 1], np.eye(2), [10, 0], [20, 1], np.eye(2), half_beam="x")

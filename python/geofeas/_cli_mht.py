@@ -24,9 +24,9 @@ from .tracking import (
     PAPER_TABLE_2,
     STUDY_COLUMNS,
     TRACKERS,
-    plot_run,
-    simulate_run,
-    study,
+    mht_simulate_run,
+    mht_study,
+    plot_mht_run,
 )
 from .tracking._mht import OPTIONS
 
@@ -159,7 +159,7 @@ def plot_trends(rows: list[dict[str, Any]], path: Path) -> None:
 _STUDY = {o[0]: o[1:] for o in OPTIONS["study"]}
 
 #: Flags whose default is the command's own, not the library's: more runs than
-#: :func:`geofeas.tracking.study`'s quick default.
+#: :func:`geofeas.tracking.mht_study`'s quick default.
 CLI_DEFAULTS = {"runs": 100}
 
 
@@ -200,7 +200,7 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    res = study(
+    res = mht_study(
         runs=args.runs,
         seed=args.seed,
         max_hypotheses=args.max_hypotheses,
@@ -254,7 +254,7 @@ def run(args: argparse.Namespace) -> int:
             return 2
         plot_trends(rows, out / "trends.png")
         for tracker in ("mht", "single"):
-            r = simulate_run(
+            r = mht_simulate_run(
                 targets=2,
                 sensors=3,
                 false_alarms=2,
@@ -268,7 +268,7 @@ def run(args: argparse.Namespace) -> int:
                 confirm_probability=args.confirm_probability,
                 accel_sigma=args.accel_sigma,
             )
-            plot_run(r, out, prefix=f"fig_{tracker}")
+            plot_mht_run(r, out, prefix=f"fig_{tracker}")
         print(f"figures -> {out}", file=sys.stderr)
     return 0
 

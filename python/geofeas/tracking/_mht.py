@@ -2,13 +2,13 @@
 
 Thin wrappers over the Rust core (``geofeas._core.mht_*``):
 
-- :func:`trilaterate`: two range / range-rate detections to a Cartesian state and its covariance
+- :func:`mht_trilaterate`: two range / range-rate detections to a Cartesian state and its covariance
   (eqs. 1-9), for sensors anywhere in the plane.
-- :func:`track`: Reid's measurement-oriented MHT (or the single-hypothesis baseline) over
+- :func:`mht_track`: Reid's measurement-oriented MHT (or the single-hypothesis baseline) over
   detections of known sensors; returns the most likely hypothesis's tracks.
-- :func:`simulate_run`: one simulated run of the paper's scenarios, tracked and scored.
-- :func:`study`: the Monte-Carlo reproduction of Tables 1 and 2 (section 5).
-- :func:`track_ellipses`: Cartesian track covariances as 2-sigma AOU ellipses
+- :func:`mht_simulate_run`: one simulated run of the paper's scenarios, tracked and scored.
+- :func:`mht_study`: the Monte-Carlo reproduction of Tables 1 and 2 (section 5).
+- :func:`mht_ellipses`: Cartesian track covariances as 2-sigma AOU ellipses
   ``(x0, y0, rx, ry, phi)``, ready for :func:`geofeas.glr`, :func:`geofeas.overlap` or
   :func:`geofeas.cdist` (the bridge to the geofeasibility scores).
 """
@@ -37,14 +37,14 @@ __all__ = [
     "MhtTracker",
     "STUDY_COLUMNS",
     "TRACKERS",
-    "track_scans",
+    "mht_track_scans",
     "paper_sensors",
-    "plot_run",
-    "simulate_run",
-    "study",
-    "track",
-    "track_ellipses",
-    "trilaterate",
+    "plot_mht_run",
+    "mht_simulate_run",
+    "mht_study",
+    "mht_track",
+    "mht_ellipses",
+    "mht_trilaterate",
 ]
 
 #: Metrics of the study, in table order (defined once, in the Rust core).
@@ -55,10 +55,10 @@ METRICS: tuple[str, ...] = tuple(_core.mht_metric_names())
 TRACKERS: tuple[str, ...] = tuple(_core.mht_tracker_names())
 
 #: The option sets of the MHT as declared once in the Rust core (``geofeas._core.mht_options()``):
-#: ``tracker`` (:func:`track`, :class:`MhtTracker`), ``run`` (:func:`simulate_run`), ``study``
-#: (:func:`study`) and ``beam`` (:func:`trilaterate`), each a list of ``(name, kind, default,
-#: doc, choices)``. The signatures below take their defaults from it, and a test checks them, the
-#: stubs, the ``mht-study`` flags and the docs table against it.
+#: ``tracker`` (:func:`mht_track`, :class:`MhtTracker`), ``run`` (:func:`mht_simulate_run`),
+#: ``study`` (:func:`mht_study`) and ``beam`` (:func:`mht_trilaterate`), each a list of
+#: ``(name, kind, default, doc, choices)``. The signatures below take their defaults from it, and
+#: a test checks them, the stubs, the ``mht-study`` flags and the docs table against it.
 OPTIONS: dict[str, list[tuple[str, str, Any, str, tuple[str, ...]]]] = _core.mht_options()
 _K, _R, _S, _B = ({o[0]: o[2] for o in OPTIONS[g]} for g in ("tracker", "run", "study", "beam"))
 
@@ -68,8 +68,8 @@ def _pick(group: str, arguments: dict[str, Any]) -> dict[str, Any]:
     return {o[0]: arguments[o[0]] for o in OPTIONS[group]}
 
 
-#: Columns of :func:`study` and of ``tables.csv``: the cell, ``runs``, then every metric followed
-#: by its confidence interval (``_lo``, ``_hi``).
+#: Columns of :func:`mht_study` and of ``tables.csv``: the cell, ``runs``, then every metric
+#: followed by its confidence interval (``_lo``, ``_hi``).
 STUDY_COLUMNS: tuple[str, ...] = (
     "targets",
     "sensors",
@@ -118,7 +118,7 @@ def paper_sensors(count: int = 3) -> NDArray[np.float64]:
     return np.array([[x, 0.0, math.pi / 2, math.pi / 2, 100.0, 15.0] for x in xs])
 
 
-def trilaterate(
+def mht_trilaterate(
     pos_a: ArrayLike,
     z_a: ArrayLike,
     cov_a: ArrayLike,
@@ -180,7 +180,7 @@ def trilaterate(
     return state, cov
 
 
-def track(
+def mht_track(
     detections: ArrayLike,
     sensors: ArrayLike,
     /,
@@ -285,7 +285,7 @@ class MhtTracker:
         Rows ``[x, y, boresight, half_beam, max_range, max_range_rate]`` (see
         :func:`paper_sensors`).
     **options
-        Tracker options as in :func:`track` (``max_hypotheses``, ``pd``,
+        Tracker options as in :func:`mht_track` (``max_hypotheses``, ``pd``,
         ``false_alarm_density``, ``new_target_density``, ``accel_sigma``, ``sigma_range``,
         ``sigma_range_rate``, ``gate``, ``max_coast``, ``max_speed``, ``ekf_iterations``,
         ``single``).
@@ -359,7 +359,7 @@ class MhtTracker:
 _TRACK_OPTIONS = tuple(_K)
 
 
-def track_scans(
+def mht_track_scans(
     scans: Iterable[tuple[float, int, ArrayLike]],
     sensors: ArrayLike,
     /,
@@ -418,7 +418,7 @@ def track_scans(
     }
 
 
-def simulate_run(
+def mht_simulate_run(
     *,
     targets: int = _R["targets"],
     sensors: int = _R["sensors"],
@@ -441,7 +441,7 @@ def simulate_run(
     dict
         ``detections`` rows ``[time, sensor, range, range_rate, target, track]`` (target -1: false
         alarm; track -1: not in a track of the final most likely hypothesis), ``tracks`` and
-        ``ellipses`` as in :func:`track`, ``truth`` rows ``[target, time, x, y, vx, vy]`` every
+        ``ellipses`` as in :func:`mht_track`, ``truth`` rows ``[target, time, x, y, vx, vy]`` every
         0.05 s, ``sensors`` positions, ``metrics`` (:data:`METRICS` of this run: section 5.2,
         GOSPA, identity switches, fragmentation) and ``duration``. ``tracker="mht-paper"`` runs
         the paper-faithful configuration (plain EKF, ``Q = 4 g`` read as a covariance, new-target
@@ -450,7 +450,7 @@ def simulate_run(
     return dict(_core.mht_simulate_run(**_pick("run", locals())))
 
 
-def study(
+def mht_study(
     *,
     runs: int = _S["runs"],
     seed: int = _S["seed"],
@@ -500,10 +500,11 @@ def study(
     return {k: out[k] for k in STUDY_COLUMNS}
 
 
-def track_ellipses(result: dict[str, Any]) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
-    """Track ids and 2-sigma AOU ellipses ``(n, 5)`` of a :func:`track` / :func:`simulate_run`
-    result, in the geofeas convention (``phi`` the bearing of ``rx``, clockwise from north, with
-    x east and y north): score two radar networks' tracks with ``geofeas.cdist(a, b)``."""
+def mht_ellipses(result: dict[str, Any]) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+    """Track ids and 2-sigma AOU ellipses ``(n, 5)`` of a :func:`mht_track` /
+    :func:`mht_simulate_run` result, in the geofeas convention (``phi`` the bearing of ``rx``,
+    clockwise from north, with x east and y north): score two radar networks' tracks with
+    ``geofeas.cdist(a, b)``."""
     try:
         rows = np.asarray(result["ellipses"], dtype=np.float64)
     except (KeyError, TypeError) as exc:
@@ -513,8 +514,8 @@ def track_ellipses(result: dict[str, Any]) -> tuple[NDArray[np.int64], NDArray[n
     return rows[:, 0].astype(np.int64), np.ascontiguousarray(rows[:, 1:])
 
 
-def plot_run(result: dict[str, Any], out_dir: str | Path, *, prefix: str = "run") -> list[Path]:
-    """Figures like the paper's Figs. 4-7 for a :func:`simulate_run` result: ground truth and
+def plot_mht_run(result: dict[str, Any], out_dir: str | Path, *, prefix: str = "run") -> list[Path]:
+    """Figures like the paper's Figs. 4-7 for a :func:`mht_simulate_run` result: ground truth and
     tracks in Cartesian coordinates, and each sensor's detections in range-Doppler coloured by
     the track they belong to (grey: not associated). Needs matplotlib; returns the PNG paths."""
     import matplotlib
