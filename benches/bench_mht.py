@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import time
 
-from geofeas.tracking import simulate_run, study
+from geofeas.tracking import mht_simulate_run, mht_study
 
 
 def best(fn, repeat: int) -> float:
@@ -34,12 +34,12 @@ def main() -> None:
     runs = 5 if args.quick else 100
 
     def scenario(tracker: str) -> None:
-        simulate_run(targets=2, sensors=3, false_alarms=4, tracker=tracker, seed=1)
+        mht_simulate_run(targets=2, sensors=3, false_alarms=4, tracker=tracker, seed=1)
 
     t_mht = best(lambda: scenario("mht"), repeat)
     t_single = best(lambda: scenario("single"), repeat)
     cells: list[int] = []
-    t_study = best(lambda: cells.append(len(study(runs=runs)["tracker"])), 1)
+    t_study = best(lambda: cells.append(len(mht_study(runs=runs)["tracker"])), 1)
     print("| what | time | ratio |")
     print("|---|---|---|")
     print(

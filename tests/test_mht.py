@@ -22,13 +22,13 @@ from geofeas.tracking import (
     STUDY_COLUMNS,
     TRACKERS,
     MhtTracker,
+    mht_ellipses,
+    mht_simulate_run,
+    mht_study,
+    mht_track,
+    mht_track_scans,
+    mht_trilaterate,
     paper_sensors,
-    simulate_run,
-    study,
-    track,
-    track_ellipses,
-    track_scans,
-    trilaterate,
 )
 
 R = np.diag([0.05**2, 0.02**2])
@@ -63,7 +63,7 @@ def test_trilateration_matches_the_paper_equations(rng: np.random.Generator) -> 
         s1, s2 = -10.0, 10.0
         truth = np.array([rng.uniform(-40, 40), rng.uniform(5, 80), *rng.uniform(-10, 10, 2)])
         za, zb = measure(s1, truth), measure(s2, truth)
-        state, cov = trilaterate([s1, 0], za, R, [s2, 0], zb, R)
+        state, cov = mht_trilaterate([s1, 0], za, R, [s2, 0], zb, R)
         ref = paper_trilateration(s1, s2, np.array([za[0], zb[0], za[1], zb[1]]))
         np.testing.assert_allclose(state, ref, rtol=1e-6, atol=1e-6)
         np.testing.assert_allclose(state, truth, rtol=1e-8, atol=1e-8)
@@ -76,7 +76,7 @@ def test_trilateration_covariance_matches_monte_carlo(rng: np.random.Generator) 
     s1, s2 = -10.0, 10.0
     truth = np.array([3.0, 25.0, 5.0, -4.0])
     za, zb = measure(s1, truth), measure(s2, truth)
-    _, cov = trilaterate([s1, 0], za, R, [s2, 0], zb, R)
+    _, cov = mht_trilaterate([s1, 0], za, R, [s2, 0], zb, R)
     n = 20_000
     noise = rng.standard_normal((n, 4)) * np.array([0.05, 0.05, 0.02, 0.02])
     samples = np.array(
@@ -96,15 +96,15 @@ def test_trilateration_covariance_matches_monte_carlo(rng: np.random.Generator) 
 
 def test_trilateration_rejects_bad_input() -> None:
     with pytest.raises(GeofeasError, match="do not intersect"):
-        trilaterate([-10, 0], [3, 0], R, [10, 0], [3, 0], R)
+        mht_trilaterate([-10, 0], [3, 0], R, [10, 0], [3, 0], R)
     with pytest.raises(GeofeasError, match="z_a"):
-        trilaterate([-10, 0], [np.nan, 0], R, [10, 0], [20, 0], R)
+        mht_trilaterate([-10, 0], [np.nan, 0], R, [10, 0], [20, 0], R)
     with pytest.raises(GeofeasError, match="cov_b"):
-        trilaterate([-10, 0], [20, 0], R, [10, 0], [20, 0], np.eye(3))
+        mht_trilaterate([-10, 0], [20, 0], R, [10, 0], [20, 0], np.eye(3))
     with pytest.raises(GeofeasError, match="pos_a"):
-        trilaterate([-10, 0, 1], [20, 0], R, [10, 0], [20, 0], R)
+        mht_trilaterate([-10, 0, 1], [20, 0], R, [10, 0], [20, 0], R)
     with pytest.raises(ValueError):
-        trilaterate([-10, 0], ["a", 0], R, [10, 0], [20, 0], R)
+        mht_trilaterate([-10, 0], ["a", 0], R, [10, 0], [20, 0], R)
 
 
 def simulate_line(
@@ -150,7 +150,7 @@ def test_track_finds_a_straight_line_target_with_any_layout(
     start, velocity = np.array([-20.0, 40.0]), np.array([6.0, -2.0])
     det, labels = simulate_line(rng, sensors, [0.5, 0.6, 0.7], start, velocity, 8.0, false_alarms)
     # A straight line: a gentle motion model (1 m/s^2) instead of the paper's 4 g.
-    res = track(det, sensors, accel_sigma=1.0)
+    res = mht_track(det, sensors, accel_sigma=1.0)
     tracks = res["tracks"]
     assert tracks.shape[1] == 6 and len(tracks) > 0
     # The longest track follows the target; its last estimate is within 0.5 m and 0.5 m/s.
@@ -170,38 +170,38 @@ def test_track_rejects_bad_input() -> None:
     sensors = paper_sensors(3)
     good = np.array([[0.0, 0, 20.0, 1.0], [0.0, 1, 21.0, 1.0]])
     with pytest.raises(GeofeasError, match=r"detections: expected shape \(n, 4\)"):
-        track(good[:, :3], sensors)
+        mht_track(good[:, :3], sensors)
     with pytest.raises(GeofeasError, match=r"sensors: expected shape \(s, 6\)"):
-        track(good, sensors[:, :5])
+        mht_track(good, sensors[:, :5])
     bad = good.copy()
     bad[1, 2] = np.nan
     with pytest.raises(GeofeasError, match="row 1.*range"):
-        track(bad, sensors)
+        mht_track(bad, sensors)
     bad = good.copy()
     bad[1, 1] = 7
     with pytest.raises(GeofeasError, match="row 1: sensor 7"):
-        track(bad, sensors)
+        mht_track(bad, sensors)
     bad = good.copy()
     bad[0, 0] = 1.0
     with pytest.raises(GeofeasError, match="sort detections by time"):
-        track(bad, sensors)
+        mht_track(bad, sensors)
     bad_sensors = sensors.copy()
     bad_sensors[2, 4] = -1
     with pytest.raises(GeofeasError, match="sensor row 2.*max_range"):
-        track(good, bad_sensors)
+        mht_track(good, bad_sensors)
     with pytest.raises(GeofeasError, match="pd"):
-        track(good, sensors, pd=1.0)
+        mht_track(good, sensors, pd=1.0)
     with pytest.raises(GeofeasError, match="max_hypotheses"):
-        track(good, sensors, max_hypotheses=0)
+        mht_track(good, sensors, max_hypotheses=0)
     # Non-contiguous and integer input is accepted.
-    res = track(np.asfortranarray(good), sensors.astype(np.float32))
+    res = mht_track(np.asfortranarray(good), sensors.astype(np.float32))
     assert res["tracks"].shape[1] == 6
 
 
 def test_simulate_run_is_seeded_and_consistent() -> None:
-    a = simulate_run(targets=2, sensors=3, false_alarms=2, seed=4)
-    b = simulate_run(targets=2, sensors=3, false_alarms=2, seed=4)
-    c = simulate_run(targets=2, sensors=3, false_alarms=2, seed=5)
+    a = mht_simulate_run(targets=2, sensors=3, false_alarms=2, seed=4)
+    b = mht_simulate_run(targets=2, sensors=3, false_alarms=2, seed=4)
+    c = mht_simulate_run(targets=2, sensors=3, false_alarms=2, seed=5)
     np.testing.assert_array_equal(a["detections"], b["detections"])
     assert not np.array_equal(a["detections"][:, 2], c["detections"][:, 2])
     det = a["detections"]
@@ -215,9 +215,9 @@ def test_simulate_run_is_seeded_and_consistent() -> None:
     speeds = np.hypot(truth[:, 4], truth[:, 5])
     np.testing.assert_allclose(speeds, 10.0)
     with pytest.raises(GeofeasError, match="tracker"):
-        simulate_run(tracker="jpda")
+        mht_simulate_run(tracker="jpda")
     with pytest.raises(GeofeasError, match="targets"):
-        simulate_run(targets=3)
+        mht_simulate_run(targets=3)
 
 
 def test_track_ellipses_feed_the_geofeasibility_scores(rng: np.random.Generator) -> None:
@@ -233,8 +233,8 @@ def test_track_ellipses_feed_the_geofeasibility_scores(rng: np.random.Generator)
     for net, periods in ((net_a, [0.5, 0.6, 0.7]), (net_b, [0.4, 0.45])):
         rows = np.vstack([simulate_line(rng, net, periods, p0, v, 6.0)[0] for p0, v in targets])
         rows = rows[np.lexsort((rows[:, 1], rows[:, 0]))]
-        res = track(rows, net)
-        ids, e = track_ellipses(res)
+        res = mht_track(rows, net)
+        ids, e = mht_ellipses(res)
         assert e.shape == (len(ids), 5) and len(ids) >= 2
         ell.append(e)
     g = geofeas.cdist(ell[0], ell[1], score="glr")
@@ -244,13 +244,13 @@ def test_track_ellipses_feed_the_geofeasibility_scores(rng: np.random.Generator)
         assert np.hypot(*(ell[1][j, :2] - e[:2])) < 1.0
         assert g[i, j] > 0.1
     with pytest.raises(GeofeasError):
-        track_ellipses({"tracks": []})
+        mht_ellipses({"tracks": []})
 
 
 def test_study_columns_and_reproducibility() -> None:
     kw = dict(runs=2, seed=3, max_hypotheses=10, one_target=(0, 2), two_targets=(1,), resamples=50)
-    a = study(**kw)
-    b = study(**kw)
+    a = mht_study(**kw)
+    b = mht_study(**kw)
     assert tuple(a) == STUDY_COLUMNS
     assert set(METRICS) <= set(STUDY_COLUMNS) and "gospa" in METRICS and "id_switches" in METRICS
     # 3 trackers x 2 layouts x 3 false-alarm columns.
@@ -264,9 +264,9 @@ def test_study_columns_and_reproducibility() -> None:
         ok = ~np.isnan(v)
         assert np.all(lo[ok] <= v[ok] + 1e-12) and np.all(v[ok] <= hi[ok] + 1e-12)
     with pytest.raises(GeofeasError, match="runs"):
-        study(runs=0)
+        mht_study(runs=0)
     with pytest.raises(GeofeasError, match="tracker"):
-        study(runs=1, trackers=("mht", "jpda"))
+        mht_study(runs=1, trackers=("mht", "jpda"))
 
 
 def test_mht_study_command_writes_the_contract(tmp_path) -> None:
@@ -345,10 +345,10 @@ def _scans_of(run: dict) -> list[tuple[float, int, np.ndarray]]:
 
 
 def test_track_scans_agrees_with_batch_tracking_and_reports_top_hypotheses() -> None:
-    run = simulate_run(targets=2, sensors=3, false_alarms=1, seed=4)
+    run = mht_simulate_run(targets=2, sensors=3, false_alarms=1, seed=4)
     scans = _scans_of(run)
     assert sum(len(r) for _, _, r in scans) == len(run["detections"])
-    res = track_scans(scans, paper_sensors(3), top=3)
+    res = mht_track_scans(scans, paper_sensors(3), top=3)
     assert res["estimates"].shape[1] == 1 + len(ESTIMATE_COLUMNS)
     # Same data, same tracker: the final assignment of detections equals the batch run's.
     np.testing.assert_array_equal(
@@ -372,12 +372,12 @@ def test_track_scans_agrees_with_batch_tracking_and_reports_top_hypotheses() -> 
 
 
 def test_empty_scans_matter_on_user_data() -> None:
-    run = simulate_run(targets=1, sensors=3, false_alarms=0, seed=5, detection_probability=0.6)
+    run = mht_simulate_run(targets=1, sensors=3, false_alarms=0, seed=5, detection_probability=0.6)
     scans = _scans_of(run)
     empty = sum(1 for _, _, r in scans if len(r) == 0)
     assert empty > 5
-    with_empty = track_scans(scans, paper_sensors(3), top=2)
-    without = track_scans([s for s in scans if len(s[2])], paper_sensors(3), top=2)
+    with_empty = mht_track_scans(scans, paper_sensors(3), top=2)
+    without = mht_track_scans([s for s in scans if len(s[2])], paper_sensors(3), top=2)
     # The missed-detection charges change the hypothesis probabilities.
     assert with_empty["hypotheses"][0][0] != pytest.approx(without["hypotheses"][0][0])
     assert len(with_empty["top"]) > len(without["top"])
@@ -393,7 +393,7 @@ def test_process_noise_default_is_2_g_in_every_entry_point() -> None:
     from geofeas._cli_mht import add_parser
 
     two_g, four_g = 2.0 * 9.80665, 4.0 * 9.80665
-    for f in (track, simulate_run, study):
+    for f in (mht_track, mht_simulate_run, mht_study):
         assert inspect.signature(f).parameters["accel_sigma"].default == two_g, f.__name__
     parser = argparse.ArgumentParser()
     add_parser(parser.add_subparsers())
@@ -406,7 +406,7 @@ def test_process_noise_default_is_2_g_in_every_entry_point() -> None:
 
     assert np.array_equal(run(), run(accel_sigma=two_g))
     assert not np.array_equal(run(), run(accel_sigma=four_g))
-    scans = _scans_of(simulate_run(targets=2, sensors=3, false_alarms=2, seed=1))
+    scans = _scans_of(mht_simulate_run(targets=2, sensors=3, false_alarms=2, seed=1))
 
     def fed(**kw: float) -> np.ndarray:
         mht = _core.MhtTracker(paper_sensors(3), **kw)
@@ -420,7 +420,7 @@ def test_process_noise_default_is_2_g_in_every_entry_point() -> None:
 
 @pytest.mark.parametrize("targets", [1, 2])
 def test_without_false_alarms_the_true_tracks_are_found(targets: int) -> None:
-    r = simulate_run(targets=targets, sensors=3, false_alarms=0, seed=2)
+    r = mht_simulate_run(targets=targets, sensors=3, false_alarms=0, seed=2)
     m = r["metrics"]
     assert m["t_pd"] > 0.9 and m["t_far"] == 0.0 and m["pos_err"] < 1.5, m
     det = r["detections"]
@@ -430,19 +430,19 @@ def test_without_false_alarms_the_true_tracks_are_found(targets: int) -> None:
     for tid in np.unique(tracked[:, 5]):
         assert len(np.unique(tracked[tracked[:, 5] == tid, 4])) == 1
     # The single-hypothesis baseline also succeeds without false alarms.
-    s = simulate_run(targets=targets, sensors=3, false_alarms=0, seed=2, tracker="single")
+    s = mht_simulate_run(targets=targets, sensors=3, false_alarms=0, seed=2, tracker="single")
     assert s["metrics"]["t_pd"] > 0.9
 
 
 def test_detection_probability_is_configurable() -> None:
-    full = simulate_run(targets=2, false_alarms=0, seed=3)["detections"]
-    some = simulate_run(targets=2, false_alarms=0, seed=3, detection_probability=0.7)
+    full = mht_simulate_run(targets=2, false_alarms=0, seed=3)["detections"]
+    some = mht_simulate_run(targets=2, false_alarms=0, seed=3, detection_probability=0.7)
     det = some["detections"]
     # Binomial(208, 0.7): 145.6 expected, standard deviation 6.6.
     assert len(full) == 208 and 120 < len(det) < 172
     assert 0.0 <= some["metrics"]["t_pd"] <= 1.0
     with pytest.raises(GeofeasError, match="pd"):
-        simulate_run(detection_probability=1.5)
+        mht_simulate_run(detection_probability=1.5)
 
 
 def test_stonesoup_adapter_tracks_stone_soup_detections() -> None:
@@ -455,7 +455,7 @@ def test_stonesoup_adapter_tracks_stone_soup_detections() -> None:
 
     from geofeas.tracking.stonesoup import MhtStoneSoupTracker
 
-    run = simulate_run(targets=2, sensors=3, false_alarms=2, seed=6)
+    run = mht_simulate_run(targets=2, sensors=3, false_alarms=2, seed=6)
     epoch = datetime(2026, 1, 1)
     paths = {k: GroundTruthPath(id=f"target-{k}") for k in (0, 1)}
     for row in run["truth"]:
@@ -511,3 +511,20 @@ def test_stonesoup_adapter_tracks_stone_soup_detections() -> None:
     bad = [(epoch, {Clutter([[1.0], [0.0]], timestamp=epoch, metadata={})})]
     with pytest.raises(GeofeasError, match="sensor"):
         list(MhtStoneSoupTracker(bad, paper_sensors(3)))
+
+
+def test_former_mht_names_warn_and_are_the_new_functions():
+    import importlib
+
+    import geofeas.tracking as tracking
+
+    for old, new in tracking.DEPRECATED_NAMES.items():
+        with pytest.warns(DeprecationWarning, match=f"tracking.{old} is deprecated.*{new}"):
+            f = getattr(tracking, old)
+        assert f is getattr(tracking, new)
+        assert old not in tracking.__all__ and new in tracking.__all__
+    with pytest.warns(DeprecationWarning, match="tracking.track is deprecated"):
+        exec("from geofeas.tracking import track as _t", {})
+    with pytest.raises(AttributeError, match="no attribute 'tracks'"):
+        tracking.tracks  # noqa: B018
+    importlib.reload(tracking)

@@ -24,10 +24,11 @@ from .tracking import (
     PAPER_TABLE_2,
     STUDY_COLUMNS,
     TRACKERS,
-    plot_run,
-    simulate_run,
-    study,
+    mht_simulate_run,
+    mht_study,
+    plot_mht_run,
 )
+from .tracking._mht import OPTIONS
 
 
 def _fmt(v: Any) -> str:
@@ -154,6 +155,28 @@ def plot_trends(rows: list[dict[str, Any]], path: Path) -> None:
     plt.close(fig)
 
 
+#: The study options as declared in the core: name -> (kind, default, doc, choices).
+_STUDY = {o[0]: o[1:] for o in OPTIONS["study"]}
+
+#: Flags whose default is the command's own, not the library's: more runs than
+#: :func:`geofeas.tracking.mht_study`'s quick default.
+CLI_DEFAULTS = {"runs": 100}
+
+
+def _option(p: argparse.ArgumentParser, name: str, **kw: Any) -> None:
+    """Adds ``--name`` for the study option ``name``: its type, its default (unless the command
+    has its own, :data:`CLI_DEFAULTS`) and its doc with the default."""
+    kind, default, doc, _choices = _STUDY[name]
+    default = CLI_DEFAULTS.get(name, default)
+    if kind in ("int", "float"):
+        kw.setdefault("type", {"int": int, "float": float}[kind])
+    if isinstance(default, tuple):
+        shown = ",".join(str(v) for v in default)
+    else:
+        shown = f"{default:.4g}" if isinstance(default, float) else str(default)
+    p.add_argument(f"--{name.replace('_', '-')}", default=default, help=f"{doc} ({shown})", **kw)
+
+
 def _ints(text: str) -> list[int]:
     try:
         return [int(v) for v in text.split(",") if v.strip()]
@@ -177,7 +200,7 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    res = study(
+    res = mht_study(
         runs=args.runs,
         seed=args.seed,
         max_hypotheses=args.max_hypotheses,
@@ -231,7 +254,7 @@ def run(args: argparse.Namespace) -> int:
             return 2
         plot_trends(rows, out / "trends.png")
         for tracker in ("mht", "single"):
-            r = simulate_run(
+            r = mht_simulate_run(
                 targets=2,
                 sensors=3,
                 false_alarms=2,
@@ -245,7 +268,7 @@ def run(args: argparse.Namespace) -> int:
                 confirm_probability=args.confirm_probability,
                 accel_sigma=args.accel_sigma,
             )
-            plot_run(r, out, prefix=f"fig_{tracker}")
+            plot_mht_run(r, out, prefix=f"fig_{tracker}")
         print(f"figures -> {out}", file=sys.stderr)
     return 0
 
@@ -258,87 +281,24 @@ def add_parser(sub: Any) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--runs", type=int, default=100, help="Monte-Carlo runs per column (100)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random streams (0)")
-    p.add_argument(
-        "--trackers",
-        type=_trackers,
-        default=list(TRACKERS),
-        help="comma-separated trackers among mht (recommended), mht-paper (paper-faithful), "
-        "single (baseline); default all three",
-    )
-    p.add_argument(
-        "--one-target",
-        type=_ints,
-        default=[0, 1, 2, 4, 6, 7, 8],
-        help="false alarms per sensor per scan of the one-target columns (0,1,2,4,6,7,8)",
-    )
-    p.add_argument(
-        "--two-targets",
-        type=_ints,
-        default=[0, 1, 2, 3, 4, 6, 8],
-        help="false alarms per sensor per scan of the two-target columns (0,1,2,3,4,6,8)",
-    )
-    p.add_argument("--max-hypotheses", type=int, default=50, help="MHT hypotheses kept (50)")
-    p.add_argument(
-        "--ekf-iterations",
-        type=int,
-        default=2,
-        help="mht and single: relinearisations of the Cartesian EKF update (2; 0: plain EKF)",
-    )
-    p.add_argument(
-        "--new-target-rate",
-        type=float,
-        default=0.02,
-        help="mht and single: expected new targets per scan in a sensor window (0.02)",
-    )
-    p.add_argument(
-        "--confirm-probability",
-        type=float,
-        default=0.0,
-        help="mht and single: confirmation stage, probability over the kept hypotheses a track "
-        "must reach before it counts (0: none)",
-    )
-    p.add_argument(
-        "--paper-ekf-iterations",
-        type=int,
-        default=0,
-        help="mht-paper: relinearisations of the Cartesian EKF update (0: the paper's EKF)",
-    )
-    p.add_argument(
-        "--paper-new-target-rate",
-        type=float,
-        default=1e-8,
-        help="mht-paper: expected new targets per scan in a sensor window (1e-8)",
-    )
-    p.add_argument(
-        "--paper-confirm-probability",
-        type=float,
-        default=0.0,
-        help="mht-paper: confirmation stage probability (0: none)",
-    )
-    p.add_argument(
-        "--paper-accel-sigma",
-        type=float,
-        default=math.sqrt(4.0 * 9.80665),
-        help="mht-paper: white-acceleration sigma in m/s^2 (sqrt(4 g) = 6.26: the paper's "
-        "Q = 4 g as a covariance)",
-    )
-    p.add_argument(
-        "--accel-sigma",
-        type=float,
-        default=2.0 * 9.80665,
-        help="mht and single: white-acceleration sigma in m/s^2 (2 g; the paper's 4 g read as "
-        "a sigma is 39.2)",
-    )
-    p.add_argument(
-        "--detection-probability",
-        type=float,
-        default=1.0,
-        help="detection probability of the simulated sensors (1, as in the paper)",
-    )
-    p.add_argument(
-        "--resamples", type=int, default=1000, help="bootstrap resamples for the intervals (1000)"
-    )
+    _option(p, "runs")
+    _option(p, "seed")
+    _option(p, "trackers", type=_trackers)
+    _option(p, "one_target", type=_ints)
+    _option(p, "two_targets", type=_ints)
+    for name in (
+        "max_hypotheses",
+        "ekf_iterations",
+        "new_target_rate",
+        "confirm_probability",
+        "paper_ekf_iterations",
+        "paper_new_target_rate",
+        "paper_confirm_probability",
+        "paper_accel_sigma",
+        "accel_sigma",
+        "detection_probability",
+        "resamples",
+    ):
+        _option(p, name)
     p.add_argument("--no-figures", action="store_true", help="write the CSV and markdown only")
     p.set_defaults(func=run)

@@ -36,6 +36,30 @@ import numpy as np
 
 from ._atomic import save_figure, write_text
 from .tracking import PAPER_IC, PAPER_PCA, PF_CONFIGS, pf_simulate_run, pf_study, plot_pf_run
+from .tracking._pf import OPTIONS
+
+#: The study options as declared in the core: name -> (kind, default, doc, choices).
+_STUDY = {o[0]: o[1:] for o in OPTIONS["study"]}
+
+#: Flags whose default is the command's own, not the library's: more runs than
+#: :func:`geofeas.tracking.pf_study`'s quick default, and the two options set by ``--config``.
+CLI_DEFAULTS = {"runs": 16, "association": None, "smoothing": None}
+
+
+def _option(p: argparse.ArgumentParser, name: str, **kw: Any) -> None:
+    """Adds ``--name`` for the study option ``name``: its choices, its default (unless the
+    command has its own, :data:`CLI_DEFAULTS`) and its doc with the default."""
+    kind, default, doc, choices = _STUDY[name]
+    default = CLI_DEFAULTS.get(name, default)
+    if choices:
+        kw.setdefault("choices", list(choices))
+    else:
+        kw.setdefault("type", {"int": int, "float": float}.get(kind, str))
+    shown = "" if default is None else f" ({default})"
+    p.add_argument(
+        f"--{name.replace('_', '-')}", default=default, help=kw.pop("help", doc + shown), **kw
+    )
+
 
 #: SNRs of the error table.
 ERROR_SNRS = (2.0, 6.0, 15.0)
@@ -443,11 +467,9 @@ def add_parser(sub: Any) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--runs", type=int, default=16, help="Monte-Carlo runs per row (16)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random streams (0)")
-    p.add_argument(
-        "--particles", type=int, default=10_000, help="particles per filter (10000, the paper's)"
-    )
+    _option(p, "runs")
+    _option(p, "seed")
+    _option(p, "particles")
     p.add_argument(
         "--config",
         choices=["paper", "recommended", "both"],
@@ -456,31 +478,24 @@ def add_parser(sub: Any) -> None:
         "recommended: the same with peaks after smoothing by the point spread (Sigma = 2 px); "
         "both (default): the two on the same runs, side by side",
     )
-    p.add_argument(
-        "--association",
-        choices=["nearest", "one-to-one"],
-        default=None,
+    _option(
+        p,
+        "association",
         help="peak-to-filter association, overriding the configuration's (nearest in both)",
     )
-    p.add_argument(
-        "--truth",
-        choices=["white", "jerk", "gauss-markov", "ncv"],
-        default="white",
-        help="reading of the Fig. 3 truth model (white)",
-    )
-    p.add_argument(
-        "--smoothing",
-        type=float,
-        default=None,
+    _option(p, "truth")
+    _option(
+        p,
+        "smoothing",
         help="Gaussian smoothing of the frame before peak extraction, px, overriding the "
         "configuration's (paper: 0, the raw frame; recommended: 2, the point spread's Sigma)",
     )
-    p.add_argument(
-        "--snrs",
+    _option(
+        p,
+        "snrs",
         type=_snr_list,
-        default=None,
         help="comma-separated SNRs of the Method 1 / 2 rows, dB (0,1,...,20)",
     )
-    p.add_argument("--ic-snr", type=float, default=2.0, help="SNR of the Fig. 20 rows (2 dB)")
+    _option(p, "ic_snr")
     p.add_argument("--no-figures", action="store_true", help="write the CSVs and markdown only")
     p.set_defaults(func=run)

@@ -26,12 +26,14 @@ __all__ = [
     "intersection_area",
     "MhtTracker",
     "mht_metric_names",
+    "mht_options",
     "mht_simulate_run",
     "mht_study",
     "mht_track",
     "mht_tracker_names",
     "mht_trilaterate",
     "pf_log_weights",
+    "pf_options",
     "pf_peaks",
     "pf_render",
     "pf_simulate_run",
@@ -112,6 +114,7 @@ def to_gaussian(
 def from_gaussian(mean: NDArray[np.float64], cov: NDArray[np.float64]) -> NDArray[np.float64]: ...
 def validate_ellipses(e: NDArray[np.float64]) -> None: ...
 def polygon_error_bound(vertices: int, ratio: float) -> float: ...
+def mht_options() -> dict[str, list[tuple[str, str, Any, str, tuple[str, ...]]]]: ...
 def mht_trilaterate(
     pos_a: NDArray[np.float64],
     z_a: NDArray[np.float64],
@@ -119,62 +122,15 @@ def mht_trilaterate(
     pos_b: NDArray[np.float64],
     z_b: NDArray[np.float64],
     cov_b: NDArray[np.float64],
-    *,
-    boresight: float = ...,
-    half_beam: float = ...,
+    **options: Any,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
 def mht_track(
     detections: NDArray[np.float64],
     sensors: NDArray[np.float64],
-    *,
-    max_hypotheses: int = 50,
-    pd: float = 0.9,
-    false_alarm_density: float = ...,
-    new_target_density: float = ...,
-    accel_sigma: float = ...,
-    sigma_range: float = 0.05,
-    sigma_range_rate: float = 0.02,
-    gate: float = 16.0,
-    max_coast: float = 1.0,
-    max_speed: float = 15.0,
-    ekf_iterations: int = 2,
-    single: bool = False,
+    **options: Any,
 ) -> dict[str, Any]: ...
-def mht_simulate_run(
-    *,
-    targets: int = 2,
-    sensors: int = 3,
-    false_alarms: int = 2,
-    tracker: str = "mht",
-    run: int = 0,
-    seed: int = 0,
-    max_hypotheses: int = 50,
-    ekf_iterations: int = 2,
-    detection_probability: float = 1.0,
-    new_target_rate: float = 0.02,
-    confirm_probability: float = 0.0,
-    accel_sigma: float = ...,
-) -> dict[str, Any]: ...
-def mht_study(
-    *,
-    runs: int = 20,
-    seed: int = 0,
-    max_hypotheses: int = 50,
-    ekf_iterations: int = 2,
-    new_target_rate: float = 0.02,
-    detection_probability: float = 1.0,
-    confirm_probability: float = 0.0,
-    accel_sigma: float = ...,
-    paper_ekf_iterations: int = 0,
-    paper_new_target_rate: float = 1e-8,
-    paper_confirm_probability: float = 0.0,
-    paper_accel_sigma: float = ...,
-    trackers: list[str] = ...,
-    one_target: list[int] = ...,
-    two_targets: list[int] = ...,
-    resamples: int = 1000,
-    level: float = 0.95,
-) -> dict[str, Any]: ...
+def mht_simulate_run(**options: Any) -> dict[str, Any]: ...
+def mht_study(**options: Any) -> dict[str, Any]: ...
 def mht_metric_names() -> list[str]: ...
 def mht_tracker_names() -> list[str]: ...
 
@@ -183,19 +139,7 @@ class MhtTracker:
     def __new__(
         cls,
         sensors: NDArray[np.float64],
-        *,
-        max_hypotheses: int = 50,
-        pd: float = 0.9,
-        false_alarm_density: float = ...,
-        new_target_density: float = ...,
-        accel_sigma: float = ...,
-        sigma_range: float = 0.05,
-        sigma_range_rate: float = 0.02,
-        gate: float = 16.0,
-        max_coast: float = 1.0,
-        max_speed: float = 15.0,
-        ekf_iterations: int = 2,
-        single: bool = False,
+        **options: Any,
     ) -> MhtTracker: ...
     def process_scan(self, time: float, sensor: int, detections: NDArray[np.float64]) -> int: ...
     @property
@@ -206,53 +150,14 @@ class MhtTracker:
     def hypotheses(self, top: int = 5) -> list[tuple[float, NDArray[np.float64], list[int]]]: ...
     def track_of_detection(self) -> NDArray[np.float64]: ...
 
-def pf_simulate_run(
-    *,
-    snr_db: float = 15.0,
-    method: int = 2,
-    seed: int = 0,
-    run: int = 0,
-    truth: str = "white",
-    particles: int = 10000,
-    association: str = "nearest",
-    resampling: str = "systematic",
-    resample_threshold: float = 1.0,
-    peaks: int = 4,
-    min_separation: float = 3.0,
-    smoothing: float = 0.0,
-    xmax: float = 3.0,
-    vmax: float = 0.5,
-    sigma_w: float = 0.5,
-    r1: float = 1.0,
-    model_factors: tuple[float, float, float] = ...,
-    half_box: int = 10,
-    snapshot_frames: list[int] = ...,
-    snapshot_particles: int = 300,
-    keep_frames: list[int] = ...,
-) -> dict[str, Any]: ...
+def pf_options() -> dict[str, list[tuple[str, str, Any, str, tuple[str, ...]]]]: ...
+def pf_simulate_run(**options: Any) -> dict[str, Any]: ...
 def pf_track(
     frames: NDArray[np.float64],
     init: NDArray[np.float64],
     *,
     sigma_z: float,
-    method: int = 2,
-    amplitude: float = 1.0,
-    blur: float = 2.0,
-    dt: float = 0.1,
-    seed: int = 0,
-    particles: int = 10000,
-    association: str = "nearest",
-    resampling: str = "systematic",
-    resample_threshold: float = 1.0,
-    peaks: int = 4,
-    min_separation: float = 3.0,
-    smoothing: float = 0.0,
-    xmax: float = 3.0,
-    vmax: float = 0.5,
-    sigma_w: float = 0.5,
-    r1: float = 1.0,
-    model_factors: tuple[float, float, float] = ...,
-    half_box: int = 10,
+    **options: Any,
 ) -> dict[str, Any]: ...
 def pf_log_weights(
     frame: NDArray[np.float64],
@@ -280,23 +185,7 @@ def pf_render(
     sigma: float = 0.1,
     seed: int = 0,
 ) -> NDArray[np.float64]: ...
-def pf_study(
-    ic: NDArray[np.float64],
-    *,
-    runs: int = 4,
-    seed: int = 0,
-    truth: str = "white",
-    particles: int = 10000,
-    association: str = "nearest",
-    resampling: str = "systematic",
-    peaks: int = 4,
-    min_separation: float = 3.0,
-    smoothing: float = 0.0,
-    sigma_w: float = 0.5,
-    model_factors: tuple[float, float, float] = ...,
-    snrs: list[float] | None = None,
-    ic_snr: float = 2.0,
-) -> dict[str, Any]: ...
+def pf_study(ic: NDArray[np.float64], **options: Any) -> dict[str, Any]: ...
 def associate(
     reports: _ReportColumns,
     decisions: _DecisionColumns,

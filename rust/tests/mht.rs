@@ -888,3 +888,31 @@ fn paper_faithful_t_pd_falls_with_false_alarms() {
         busy_hi[0]
     );
 }
+
+/// The MHT modules depend one way, `config` <- `track` <- `hypothesis`: a track never names the
+/// hypotheses that hold it, and the options name neither.
+#[test]
+fn tracks_do_not_depend_on_hypotheses() {
+    let sources = [
+        (
+            "track.rs",
+            include_str!("../src/tracking/mht/track.rs"),
+            &["hypothesis"][..],
+        ),
+        (
+            "config.rs",
+            include_str!("../src/tracking/mht/config.rs"),
+            &["hypothesis", "track"][..],
+        ),
+    ];
+    for (file, text, forbidden) in sources {
+        for line in text.lines().filter(|l| l.trim_start().starts_with("use ")) {
+            for module in forbidden {
+                assert!(
+                    !line.contains(&format!("{module}::")),
+                    "{file} uses {module}: {line}"
+                );
+            }
+        }
+    }
+}

@@ -1,7 +1,8 @@
 //! Closed-form and statistical tests of the particle-filter tracker (seed 003).
 
 use geofeas::tracking::pf::{
-    study, track_run, Cell, Method, PfConfig, RunSpec, Scenario, StudyOptions, TruthModel,
+    study, track_frames, track_run, Bank, Cell, Method, PeakOptions, PfConfig, RunSpec, Scenario,
+    StudyOptions, TruthModel,
 };
 
 /// With the filter's own model as the truth (NCV, sigma_w = 0.5) and Method 2's exact
@@ -145,4 +146,85 @@ fn method_two_is_sub_pixel_at_2_db_where_method_one_collapses_and_pca_rises_from
         m2_9.pca,
         m2_15.pca
     );
+}
+
+/// A run of several banks (peak extraction shared between banks with the same peak options) is
+/// step for step the frame loop of each bank alone on the run's frames.
+#[test]
+fn a_run_is_the_frame_loop_of_each_bank_alone() {
+    let spec = RunSpec {
+        scenario: Scenario {
+            duration: 1.5,
+            ..Scenario::paper()
+        },
+        ..RunSpec::paper(6.0, 5, 3)
+    };
+    let base = PfConfig {
+        particles: 150,
+        ..PfConfig::paper(Method::PeakDistance, &spec.psf, spec.sigma_z())
+    };
+    let smoothed = PfConfig {
+        peaks: PeakOptions {
+            smoothing: 2.0,
+            ..base.peaks
+        },
+        ..base
+    };
+    let configs = [
+        base,
+        smoothed,
+        PfConfig {
+            method: Method::LikelihoodRatio,
+            ..base
+        },
+    ];
+    let mut together = vec![Vec::new(); configs.len()];
+    let truth = track_run(
+        &spec,
+        &configs,
+        |b, _, _, step, _| together[b].push(step.clone()),
+        &mut || false,
+    )
+    .unwrap();
+    let init: Vec<[f64; 4]> = truth.states[0].iter().map(|s| s.xv()).collect();
+    for (b, cfg) in configs.iter().enumerate() {
+        let mut alone = Vec::new();
+        let mut bank = [Bank::new(&init, *cfg, spec.filter_seed()).unwrap()];
+        let frames = (0..truth.frames()).map(|k| spec.frame(&truth, k));
+        track_frames(
+            &mut bank,
+            frames,
+            |_, _, _, step, _| alone.push(step.clone()),
+            &mut || false,
+        )
+        .unwrap();
+        assert_eq!(alone.len(), truth.frames());
+        // Compared through their printout: residuals may be NaN, which `==` never equals.
+        assert_eq!(
+            format!("{alone:?}"),
+            format!("{:?}", together[b]),
+            "bank {b}"
+        );
+    }
+    // The smoothed peaks differ from the raw ones, so sharing them would have shown.
+    assert_ne!(together[0][5].peaks, together[1][5].peaks);
+}
+
+/// The frame loop stops with `Interrupted` when asked to, before the next frame.
+#[test]
+fn the_frame_loop_stops_when_interrupted() {
+    let spec = RunSpec::paper(6.0, 1, 0);
+    let cfg = PfConfig {
+        particles: 20,
+        ..PfConfig::paper(Method::PeakDistance, &spec.psf, spec.sigma_z())
+    };
+    let mut seen = 0;
+    let mut polls = 0;
+    let err = track_run(&spec, &[cfg], |_, _, _, _, _| seen += 1, &mut || {
+        polls += 1;
+        polls > 3
+    })
+    .unwrap_err();
+    assert_eq!(err, geofeas::Error::Interrupted);
+    assert_eq!(seen, 3);
 }

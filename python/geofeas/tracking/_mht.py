@@ -2,13 +2,13 @@
 
 Thin wrappers over the Rust core (``geofeas._core.mht_*``):
 
-- :func:`trilaterate`: two range / range-rate detections to a Cartesian state and its covariance
+- :func:`mht_trilaterate`: two range / range-rate detections to a Cartesian state and its covariance
   (eqs. 1-9), for sensors anywhere in the plane.
-- :func:`track`: Reid's measurement-oriented MHT (or the single-hypothesis baseline) over
+- :func:`mht_track`: Reid's measurement-oriented MHT (or the single-hypothesis baseline) over
   detections of known sensors; returns the most likely hypothesis's tracks.
-- :func:`simulate_run`: one simulated run of the paper's scenarios, tracked and scored.
-- :func:`study`: the Monte-Carlo reproduction of Tables 1 and 2 (section 5).
-- :func:`track_ellipses`: Cartesian track covariances as 2-sigma AOU ellipses
+- :func:`mht_simulate_run`: one simulated run of the paper's scenarios, tracked and scored.
+- :func:`mht_study`: the Monte-Carlo reproduction of Tables 1 and 2 (section 5).
+- :func:`mht_ellipses`: Cartesian track covariances as 2-sigma AOU ellipses
   ``(x0, y0, rx, ry, phi)``, ready for :func:`geofeas.glr`, :func:`geofeas.overlap` or
   :func:`geofeas.cdist` (the bridge to the geofeasibility scores).
 """
@@ -29,6 +29,7 @@ from .._atomic import save_figure
 from .._core import GeofeasError
 
 __all__ = [
+    "OPTIONS",
     "PAPER_TABLE_1",
     "PAPER_TABLE_2",
     "ESTIMATE_COLUMNS",
@@ -36,14 +37,14 @@ __all__ = [
     "MhtTracker",
     "STUDY_COLUMNS",
     "TRACKERS",
-    "track_scans",
+    "mht_track_scans",
     "paper_sensors",
-    "plot_run",
-    "simulate_run",
-    "study",
-    "track",
-    "track_ellipses",
-    "trilaterate",
+    "plot_mht_run",
+    "mht_simulate_run",
+    "mht_study",
+    "mht_track",
+    "mht_ellipses",
+    "mht_trilaterate",
 ]
 
 #: Metrics of the study, in table order (defined once, in the Rust core).
@@ -53,8 +54,22 @@ METRICS: tuple[str, ...] = tuple(_core.mht_metric_names())
 #: paper-faithful configuration, and the single-hypothesis baseline.
 TRACKERS: tuple[str, ...] = tuple(_core.mht_tracker_names())
 
-#: Columns of :func:`study` and of ``tables.csv``: the cell, ``runs``, then every metric followed
-#: by its confidence interval (``_lo``, ``_hi``).
+#: The option sets of the MHT as declared once in the Rust core (``geofeas._core.mht_options()``):
+#: ``tracker`` (:func:`mht_track`, :class:`MhtTracker`), ``run`` (:func:`mht_simulate_run`),
+#: ``study`` (:func:`mht_study`) and ``beam`` (:func:`mht_trilaterate`), each a list of
+#: ``(name, kind, default, doc, choices)``. The signatures below take their defaults from it, and
+#: a test checks them, the stubs, the ``mht-study`` flags and the docs table against it.
+OPTIONS: dict[str, list[tuple[str, str, Any, str, tuple[str, ...]]]] = _core.mht_options()
+_K, _R, _S, _B = ({o[0]: o[2] for o in OPTIONS[g]} for g in ("tracker", "run", "study", "beam"))
+
+
+def _pick(group: str, arguments: dict[str, Any]) -> dict[str, Any]:
+    """The arguments of a call that belong to the option set ``group``, for the core."""
+    return {o[0]: arguments[o[0]] for o in OPTIONS[group]}
+
+
+#: Columns of :func:`mht_study` and of ``tables.csv``: the cell, ``runs``, then every metric
+#: followed by its confidence interval (``_lo``, ``_hi``).
 STUDY_COLUMNS: tuple[str, ...] = (
     "targets",
     "sensors",
@@ -103,7 +118,7 @@ def paper_sensors(count: int = 3) -> NDArray[np.float64]:
     return np.array([[x, 0.0, math.pi / 2, math.pi / 2, 100.0, 15.0] for x in xs])
 
 
-def trilaterate(
+def mht_trilaterate(
     pos_a: ArrayLike,
     z_a: ArrayLike,
     cov_a: ArrayLike,
@@ -112,8 +127,8 @@ def trilaterate(
     cov_b: ArrayLike,
     /,
     *,
-    boresight: float = math.pi / 2,
-    half_beam: float = math.pi / 2,
+    boresight: float = _B["boresight"],
+    half_beam: float = _B["half_beam"],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Cartesian state of a target seen by two range / range-rate radars (eqs. 1-9).
 
@@ -141,6 +156,7 @@ def trilaterate(
     GeofeasError
         When the range circles do not intersect in front of both sensors.
     """
+    options = _pick("beam", locals())
     args = [
         as_float_array(v, n)
         for v, n in [
@@ -160,29 +176,27 @@ def trilaterate(
     ):
         if arr.shape != shape:
             raise GeofeasError(f"{name}: expected shape {shape}, got {arr.shape}")
-    state, cov = _core.mht_trilaterate(
-        *args, boresight=float(boresight), half_beam=float(half_beam)
-    )
+    state, cov = _core.mht_trilaterate(*args, **options)
     return state, cov
 
 
-def track(
+def mht_track(
     detections: ArrayLike,
     sensors: ArrayLike,
     /,
     *,
-    max_hypotheses: int = 50,
-    pd: float = 0.9,
-    false_alarm_density: float = 1.0 / 3000.0,
-    new_target_density: float = 0.02 / 3000.0,
-    accel_sigma: float = 2.0 * 9.80665,
-    sigma_range: float = 0.05,
-    sigma_range_rate: float = 0.02,
-    gate: float = 16.0,
-    max_coast: float = 1.0,
-    max_speed: float = 15.0,
-    ekf_iterations: int = 2,
-    single: bool = False,
+    max_hypotheses: int = _K["max_hypotheses"],
+    pd: float = _K["pd"],
+    false_alarm_density: float = _K["false_alarm_density"],
+    new_target_density: float = _K["new_target_density"],
+    accel_sigma: float = _K["accel_sigma"],
+    sigma_range: float = _K["sigma_range"],
+    sigma_range_rate: float = _K["sigma_range_rate"],
+    gate: float = _K["gate"],
+    max_coast: float = _K["max_coast"],
+    max_speed: float = _K["max_speed"],
+    ekf_iterations: int = _K["ekf_iterations"],
+    single: bool = _K["single"],
 ) -> dict[str, Any]:
     """Tracks range / range-rate detections of several radars with Reid's MHT.
 
@@ -223,6 +237,7 @@ def track(
         Cartesian tracks), ``track_of_detection`` (track id per detection, -1 for none) and
         ``probability`` (of the most likely hypothesis among those kept).
     """
+    options = _pick("tracker", locals())
     det = as_float_array(detections, "detections")
     if det.ndim != 2 or det.shape[1] != 4:
         raise GeofeasError(
@@ -235,24 +250,7 @@ def track(
             "sensors: expected shape (s, 6) with columns x, y, boresight, half_beam, max_range, "
             f"max_range_rate; got {sen.shape}"
         )
-    return dict(
-        _core.mht_track(
-            det,
-            sen,
-            max_hypotheses=_int(max_hypotheses, "max_hypotheses", 1),
-            pd=float(pd),
-            false_alarm_density=float(false_alarm_density),
-            new_target_density=float(new_target_density),
-            accel_sigma=float(accel_sigma),
-            sigma_range=float(sigma_range),
-            sigma_range_rate=float(sigma_range_rate),
-            gate=float(gate),
-            max_coast=float(max_coast),
-            max_speed=float(max_speed),
-            ekf_iterations=_int(ekf_iterations, "ekf_iterations", 0),
-            single=bool(single),
-        )
-    )
+    return dict(_core.mht_track(det, sen, **options))
 
 
 #: Columns of :meth:`MhtTracker.estimates`.
@@ -287,7 +285,7 @@ class MhtTracker:
         Rows ``[x, y, boresight, half_beam, max_range, max_range_rate]`` (see
         :func:`paper_sensors`).
     **options
-        Tracker options as in :func:`track` (``max_hypotheses``, ``pd``,
+        Tracker options as in :func:`mht_track` (``max_hypotheses``, ``pd``,
         ``false_alarm_density``, ``new_target_density``, ``accel_sigma``, ``sigma_range``,
         ``sigma_range_rate``, ``gate``, ``max_coast``, ``max_speed``, ``ekf_iterations``,
         ``single``).
@@ -358,23 +356,10 @@ class MhtTracker:
         return np.asarray(self._core.track_of_detection()).astype(np.int64)
 
 
-_TRACK_OPTIONS = (
-    "max_hypotheses",
-    "pd",
-    "false_alarm_density",
-    "new_target_density",
-    "accel_sigma",
-    "sigma_range",
-    "sigma_range_rate",
-    "gate",
-    "max_coast",
-    "max_speed",
-    "ekf_iterations",
-    "single",
-)
+_TRACK_OPTIONS = tuple(_K)
 
 
-def track_scans(
+def mht_track_scans(
     scans: Iterable[tuple[float, int, ArrayLike]],
     sensors: ArrayLike,
     /,
@@ -433,20 +418,20 @@ def track_scans(
     }
 
 
-def simulate_run(
+def mht_simulate_run(
     *,
-    targets: int = 2,
-    sensors: int = 3,
-    false_alarms: int = 2,
-    tracker: Literal["mht", "mht-paper", "single"] = "mht",
-    run: int = 0,
-    seed: int = 0,
-    max_hypotheses: int = 50,
-    ekf_iterations: int = 2,
-    detection_probability: float = 1.0,
-    new_target_rate: float = 0.02,
-    confirm_probability: float = 0.0,
-    accel_sigma: float = 2.0 * 9.80665,
+    targets: int = _R["targets"],
+    sensors: int = _R["sensors"],
+    false_alarms: int = _R["false_alarms"],
+    tracker: Literal["mht", "mht-paper", "single"] = _R["tracker"],
+    run: int = _R["run"],
+    seed: int = _R["seed"],
+    max_hypotheses: int = _R["max_hypotheses"],
+    ekf_iterations: int = _R["ekf_iterations"],
+    detection_probability: float = _R["detection_probability"],
+    new_target_rate: float = _R["new_target_rate"],
+    confirm_probability: float = _R["confirm_probability"],
+    accel_sigma: float = _R["accel_sigma"],
 ) -> dict[str, Any]:
     """Simulates and tracks one run of the paper's scenario (section 5.1), with the sensors'
     ``detection_probability`` (the paper: 1).
@@ -456,49 +441,34 @@ def simulate_run(
     dict
         ``detections`` rows ``[time, sensor, range, range_rate, target, track]`` (target -1: false
         alarm; track -1: not in a track of the final most likely hypothesis), ``tracks`` and
-        ``ellipses`` as in :func:`track`, ``truth`` rows ``[target, time, x, y, vx, vy]`` every
+        ``ellipses`` as in :func:`mht_track`, ``truth`` rows ``[target, time, x, y, vx, vy]`` every
         0.05 s, ``sensors`` positions, ``metrics`` (:data:`METRICS` of this run: section 5.2,
         GOSPA, identity switches, fragmentation) and ``duration``. ``tracker="mht-paper"`` runs
         the paper-faithful configuration (plain EKF, ``Q = 4 g`` read as a covariance, new-target
         rate 1e-8); the other options then apply to ``"mht"`` and ``"single"`` only.
     """
-    return dict(
-        _core.mht_simulate_run(
-            targets=_int(targets, "targets", 1),
-            sensors=_int(sensors, "sensors", 1),
-            false_alarms=_int(false_alarms, "false_alarms", 0),
-            tracker=str(tracker),
-            run=_int(run, "run", 0),
-            seed=_int(seed, "seed", 0),
-            max_hypotheses=_int(max_hypotheses, "max_hypotheses", 1),
-            ekf_iterations=_int(ekf_iterations, "ekf_iterations", 0),
-            detection_probability=float(detection_probability),
-            new_target_rate=float(new_target_rate),
-            confirm_probability=float(confirm_probability),
-            accel_sigma=float(accel_sigma),
-        )
-    )
+    return dict(_core.mht_simulate_run(**_pick("run", locals())))
 
 
-def study(
+def mht_study(
     *,
-    runs: int = 20,
-    seed: int = 0,
-    max_hypotheses: int = 50,
-    ekf_iterations: int = 2,
-    new_target_rate: float = 0.02,
-    detection_probability: float = 1.0,
-    confirm_probability: float = 0.0,
-    accel_sigma: float = 2.0 * 9.80665,
-    paper_ekf_iterations: int = 0,
-    paper_new_target_rate: float = 1e-8,
-    paper_confirm_probability: float = 0.0,
-    paper_accel_sigma: float = math.sqrt(4.0 * 9.80665),
-    trackers: Sequence[str] = TRACKERS,
-    one_target: Sequence[int] = (0, 1, 2, 4, 6, 7, 8),
-    two_targets: Sequence[int] = (0, 1, 2, 3, 4, 6, 8),
-    resamples: int = 1000,
-    level: float = 0.95,
+    runs: int = _S["runs"],
+    seed: int = _S["seed"],
+    max_hypotheses: int = _S["max_hypotheses"],
+    ekf_iterations: int = _S["ekf_iterations"],
+    new_target_rate: float = _S["new_target_rate"],
+    detection_probability: float = _S["detection_probability"],
+    confirm_probability: float = _S["confirm_probability"],
+    accel_sigma: float = _S["accel_sigma"],
+    paper_ekf_iterations: int = _S["paper_ekf_iterations"],
+    paper_new_target_rate: float = _S["paper_new_target_rate"],
+    paper_confirm_probability: float = _S["paper_confirm_probability"],
+    paper_accel_sigma: float = _S["paper_accel_sigma"],
+    trackers: Sequence[str] = _S["trackers"],
+    one_target: Sequence[int] = _S["one_target"],
+    two_targets: Sequence[int] = _S["two_targets"],
+    resamples: int = _S["resamples"],
+    level: float = _S["level"],
 ) -> dict[str, Any]:
     """Monte-Carlo reproduction of Tables 1 and 2 (section 5), in parallel in Rust.
 
@@ -523,38 +493,18 @@ def study(
         Columns :data:`STUDY_COLUMNS`: numeric arrays and ``tracker``, a list of names from
         :data:`TRACKERS`.
     """
-    names = [str(t) for t in trackers]
-    out = dict(
-        _core.mht_study(
-            runs=_int(runs, "runs", 1),
-            seed=_int(seed, "seed", 0),
-            max_hypotheses=_int(max_hypotheses, "max_hypotheses", 1),
-            ekf_iterations=_int(ekf_iterations, "ekf_iterations", 0),
-            new_target_rate=float(new_target_rate),
-            detection_probability=float(detection_probability),
-            confirm_probability=float(confirm_probability),
-            accel_sigma=float(accel_sigma),
-            paper_ekf_iterations=_int(paper_ekf_iterations, "paper_ekf_iterations", 0),
-            paper_new_target_rate=float(paper_new_target_rate),
-            paper_confirm_probability=float(paper_confirm_probability),
-            paper_accel_sigma=float(paper_accel_sigma),
-            trackers=names,
-            one_target=[_int(v, "one_target", 0) for v in one_target],
-            two_targets=[_int(v, "two_targets", 0) for v in two_targets],
-            resamples=_int(resamples, "resamples", 0),
-            level=float(level),
-        )
-    )
+    out = dict(_core.mht_study(**_pick("study", locals())))
     for key in ("targets", "sensors", "false_alarms"):
         out[key] = out[key].astype(np.int64)
     out["runs"] = np.full(len(out["tracker"]), int(runs), dtype=np.int64)
     return {k: out[k] for k in STUDY_COLUMNS}
 
 
-def track_ellipses(result: dict[str, Any]) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
-    """Track ids and 2-sigma AOU ellipses ``(n, 5)`` of a :func:`track` / :func:`simulate_run`
-    result, in the geofeas convention (``phi`` the bearing of ``rx``, clockwise from north, with
-    x east and y north): score two radar networks' tracks with ``geofeas.cdist(a, b)``."""
+def mht_ellipses(result: dict[str, Any]) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+    """Track ids and 2-sigma AOU ellipses ``(n, 5)`` of a :func:`mht_track` /
+    :func:`mht_simulate_run` result, in the geofeas convention (``phi`` the bearing of ``rx``,
+    clockwise from north, with x east and y north): score two radar networks' tracks with
+    ``geofeas.cdist(a, b)``."""
     try:
         rows = np.asarray(result["ellipses"], dtype=np.float64)
     except (KeyError, TypeError) as exc:
@@ -564,8 +514,8 @@ def track_ellipses(result: dict[str, Any]) -> tuple[NDArray[np.int64], NDArray[n
     return rows[:, 0].astype(np.int64), np.ascontiguousarray(rows[:, 1:])
 
 
-def plot_run(result: dict[str, Any], out_dir: str | Path, *, prefix: str = "run") -> list[Path]:
-    """Figures like the paper's Figs. 4-7 for a :func:`simulate_run` result: ground truth and
+def plot_mht_run(result: dict[str, Any], out_dir: str | Path, *, prefix: str = "run") -> list[Path]:
+    """Figures like the paper's Figs. 4-7 for a :func:`mht_simulate_run` result: ground truth and
     tracks in Cartesian coordinates, and each sensor's detections in range-Doppler coloured by
     the track they belong to (grey: not associated). Needs matplotlib; returns the PNG paths."""
     import matplotlib

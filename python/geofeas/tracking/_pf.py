@@ -31,6 +31,7 @@ from .._core import GeofeasError
 from ..scores import from_gaussian
 
 __all__ = [
+    "OPTIONS",
     "PAPER_IC",
     "PF_CONFIGS",
     "PAPER_PCA",
@@ -93,70 +94,43 @@ def _float(value: Any, name: str) -> float:
     return out
 
 
-def _method(value: Any) -> int:
-    m = _int(value, "method", 1)
-    if m not in (1, 2):
-        raise GeofeasError(f"method: expected 1 or 2, got {value!r}")
-    return m
+#: The option sets of the particle filter as declared once in the Rust core
+#: (``geofeas._core.pf_options()``): ``filter`` (the bank of filters, every entry point), ``run``
+#: (:func:`pf_simulate_run`), ``track`` (:func:`pf_track`) and ``study`` (:func:`pf_study`), each
+#: a list of ``(name, kind, default, doc, choices)``. The signatures below take their defaults
+#: from it, and a test checks them, the stubs, the ``pf-study`` flags and the docs table against it.
+OPTIONS: dict[str, list[tuple[str, str, Any, str, tuple[str, ...]]]] = _core.pf_options()
+_F, _R, _T, _S = ({o[0]: o[2] for o in OPTIONS[g]} for g in ("filter", "run", "track", "study"))
 
 
-def _filter_options(
-    particles: Any,
-    association: Any,
-    resampling: Any,
-    peaks: Any,
-    min_separation: Any,
-    smoothing: Any,
-    sigma_w: Any,
-    model_factors: Any,
-) -> dict[str, Any]:
-    try:
-        factors = tuple(_float(v, "model_factors") for v in model_factors)
-    except TypeError:
-        raise GeofeasError(
-            f"model_factors: expected three numbers, got {model_factors!r}"
-        ) from None
-    if len(factors) != 3:
-        raise GeofeasError(f"model_factors: expected three numbers, got {model_factors!r}")
-    return {
-        "particles": _int(particles, "particles", 1),
-        "association": str(association),
-        "resampling": str(resampling),
-        "peaks": _int(peaks, "peaks", 1),
-        "min_separation": _float(min_separation, "min_separation"),
-        "smoothing": _float(smoothing, "smoothing"),
-        "sigma_w": _float(sigma_w, "sigma_w"),
-        "model_factors": factors,
-    }
-
-
-def _frames_list(values: Sequence[int], name: str) -> list[int]:
-    return [_int(v, name, 0) for v in values]
+def _pick(groups: tuple[str, ...], arguments: dict[str, Any]) -> dict[str, Any]:
+    """The arguments of a call that belong to the option sets ``groups``, for the core."""
+    return {o[0]: arguments[o[0]] for g in groups for o in OPTIONS[g]}
 
 
 def pf_simulate_run(
     *,
-    snr_db: float = 15.0,
-    method: Literal[1, 2] = 2,
-    seed: int = 0,
-    run: int = 0,
-    truth: Literal["white", "jerk", "gauss-markov", "ncv"] = "white",
-    particles: int = 10_000,
-    association: Literal["nearest", "one-to-one"] = "nearest",
-    resampling: Literal["systematic", "stratified", "multinomial", "residual"] = "systematic",
-    resample_threshold: float = 1.0,
-    peaks: int = 4,
-    min_separation: float = 3.0,
-    smoothing: float = 0.0,
-    xmax: float = 3.0,
-    vmax: float = 0.5,
-    sigma_w: float = 0.5,
-    r1: float = 1.0,
-    model_factors: tuple[float, float, float] = (0.8, 1.5, 1.5),
-    half_box: int = 10,
-    snapshot_frames: Sequence[int] = (),
-    snapshot_particles: int = 300,
-    keep_frames: Sequence[int] = (),
+    snr_db: float = _R["snr_db"],
+    method: Literal[1, 2] = _R["method"],
+    seed: int = _R["seed"],
+    run: int = _R["run"],
+    truth: Literal["white", "jerk", "gauss-markov", "ncv"] = _R["truth"],
+    particles: int = _F["particles"],
+    association: Literal["nearest", "one-to-one"] = _F["association"],
+    resampling: Literal["systematic", "stratified", "multinomial", "residual"] = _F["resampling"],
+    resample_threshold: float = _F["resample_threshold"],
+    peaks: int = _F["peaks"],
+    min_separation: float = _F["min_separation"],
+    smoothing: float = _F["smoothing"],
+    xmax: float = _F["xmax"],
+    vmax: float = _F["vmax"],
+    sigma_w: float = _F["sigma_w"],
+    r1: float = _F["r1"],
+    model_factors: tuple[float, float, float] = _F["model_factors"],
+    half_box: int = _F["half_box"],
+    snapshot_frames: Sequence[int] = _R["snapshot_frames"],
+    snapshot_particles: int = _R["snapshot_particles"],
+    keep_frames: Sequence[int] = _R["keep_frames"],
 ) -> dict[str, Any]:
     """Simulates one run of the paper's scenario and tracks it with a bank of particle filters.
 
@@ -204,38 +178,13 @@ def pf_simulate_run(
         ``correct`` ``(F, 4)`` (the peak taken is nearest to the filter's own target),
         ``pca`` ``(4,)``, ``residuals`` ``(F, 4, 2)`` (Fig. 12 mean and sd), ``ess``,
         ``snapshots`` rows ``[frame, filter, x, y]``, ``frames`` ``(len(keep_frames), 256, 256)``,
-        ``sigma_z``, ``dt`` and ``times`` ``(F,)``.
+        ``sigma_z``, ``dt``, ``times`` ``(F,)`` and ``filter_seed`` (the seed of the filters'
+        particles: :func:`pf_track` with it on the run's frames reproduces the run exactly).
     """
-    out = dict(
-        _core.pf_simulate_run(
-            snr_db=_float(snr_db, "snr_db"),
-            method=_method(method),
-            seed=_int(seed, "seed", 0),
-            run=_int(run, "run", 0),
-            truth=str(truth),
-            resample_threshold=_float(resample_threshold, "resample_threshold"),
-            xmax=_float(xmax, "xmax"),
-            vmax=_float(vmax, "vmax"),
-            r1=_float(r1, "r1"),
-            half_box=_int(half_box, "half_box", 0),
-            snapshot_frames=_frames_list(snapshot_frames, "snapshot_frames"),
-            snapshot_particles=_int(snapshot_particles, "snapshot_particles", 1),
-            keep_frames=_frames_list(keep_frames, "keep_frames"),
-            **_filter_options(
-                particles,
-                association,
-                resampling,
-                peaks,
-                min_separation,
-                smoothing,
-                sigma_w,
-                model_factors,
-            ),
-        )
-    )
+    out = dict(_core.pf_simulate_run(**_pick(("run", "filter"), locals())))
     out["pca"] = out["correct"].mean(axis=0)
     out["times"] = np.arange(out["truth"].shape[0]) * out["dt"]
-    out["method"] = _method(method)
+    out["method"] = int(method)
     out["snr_db"] = float(snr_db)
     return out
 
@@ -246,24 +195,24 @@ def pf_track(
     /,
     *,
     sigma_z: float,
-    method: Literal[1, 2] = 2,
-    amplitude: float = 1.0,
-    blur: float = 2.0,
-    dt: float = 0.1,
-    seed: int = 0,
-    particles: int = 10_000,
-    association: Literal["nearest", "one-to-one"] = "nearest",
-    resampling: Literal["systematic", "stratified", "multinomial", "residual"] = "systematic",
-    resample_threshold: float = 1.0,
-    peaks: int = 4,
-    min_separation: float = 3.0,
-    smoothing: float = 0.0,
-    xmax: float = 3.0,
-    vmax: float = 0.5,
-    sigma_w: float = 0.5,
-    r1: float = 1.0,
-    model_factors: tuple[float, float, float] = (0.8, 1.5, 1.5),
-    half_box: int = 10,
+    method: Literal[1, 2] = _T["method"],
+    amplitude: float = _T["amplitude"],
+    blur: float = _T["blur"],
+    dt: float = _T["dt"],
+    seed: int = _T["seed"],
+    particles: int = _F["particles"],
+    association: Literal["nearest", "one-to-one"] = _F["association"],
+    resampling: Literal["systematic", "stratified", "multinomial", "residual"] = _F["resampling"],
+    resample_threshold: float = _F["resample_threshold"],
+    peaks: int = _F["peaks"],
+    min_separation: float = _F["min_separation"],
+    smoothing: float = _F["smoothing"],
+    xmax: float = _F["xmax"],
+    vmax: float = _F["vmax"],
+    sigma_w: float = _F["sigma_w"],
+    r1: float = _F["r1"],
+    model_factors: tuple[float, float, float] = _F["model_factors"],
+    half_box: int = _F["half_box"],
 ) -> dict[str, Any]:
     """Tracks targets through frames with a bank of particle filters (one per row of ``init``).
 
@@ -286,39 +235,14 @@ def pf_track(
         ``estimates``, ``covariances``, ``peaks``, ``peak``, ``distances``, ``residuals`` and
         ``ess`` as in :func:`pf_simulate_run`.
     """
+    options = _pick(("track", "filter"), locals())
     f = as_float_array(frames, "frames")
     if f.ndim != 3:
         raise GeofeasError(f"frames: expected shape (F, H, W), got {f.shape}")
     x0 = as_float_array(init, "init")
     if x0.ndim != 2 or x0.shape[1] != 4:
         raise GeofeasError(f"init: expected shape (n, 4) with columns x, y, vx, vy; got {x0.shape}")
-    return dict(
-        _core.pf_track(
-            f,
-            x0,
-            sigma_z=_float(sigma_z, "sigma_z"),
-            method=_method(method),
-            amplitude=_float(amplitude, "amplitude"),
-            blur=_float(blur, "blur"),
-            dt=_float(dt, "dt"),
-            seed=_int(seed, "seed", 0),
-            resample_threshold=_float(resample_threshold, "resample_threshold"),
-            xmax=_float(xmax, "xmax"),
-            vmax=_float(vmax, "vmax"),
-            r1=_float(r1, "r1"),
-            half_box=_int(half_box, "half_box", 0),
-            **_filter_options(
-                particles,
-                association,
-                resampling,
-                peaks,
-                min_separation,
-                smoothing,
-                sigma_w,
-                model_factors,
-            ),
-        )
-    )
+    return dict(_core.pf_track(f, x0, sigma_z=_float(sigma_z, "sigma_z"), **options))
 
 
 def pf_log_weights(
@@ -407,20 +331,20 @@ def pf_render(
 
 def pf_study(
     *,
-    runs: int = 4,
-    seed: int = 0,
+    runs: int = _S["runs"],
+    seed: int = _S["seed"],
     ic: ArrayLike = PAPER_IC,
-    ic_snr: float = 2.0,
-    snrs: Sequence[float] | None = None,
-    truth: Literal["white", "jerk", "gauss-markov", "ncv"] = "white",
-    particles: int = 10_000,
-    association: Literal["nearest", "one-to-one"] = "nearest",
-    resampling: Literal["systematic", "stratified", "multinomial", "residual"] = "systematic",
-    peaks: int = 4,
-    min_separation: float = 3.0,
-    smoothing: float = 0.0,
-    sigma_w: float = 0.5,
-    model_factors: tuple[float, float, float] = (0.8, 1.5, 1.5),
+    ic_snr: float = _S["ic_snr"],
+    snrs: Sequence[float] | None = _S["snrs"],
+    truth: Literal["white", "jerk", "gauss-markov", "ncv"] = _S["truth"],
+    particles: int = _S["particles"],
+    association: Literal["nearest", "one-to-one"] = _S["association"],
+    resampling: Literal["systematic", "stratified", "multinomial", "residual"] = _S["resampling"],
+    peaks: int = _S["peaks"],
+    min_separation: float = _S["min_separation"],
+    smoothing: float = _S["smoothing"],
+    sigma_w: float = _S["sigma_w"],
+    model_factors: tuple[float, float, float] = _S["model_factors"],
 ) -> dict[str, Any]:
     """Monte-Carlo study of the paper, in parallel in Rust.
 
@@ -440,30 +364,11 @@ def pf_study(
         ``held`` (fraction of tracks whose error stays below 5 px over the last second), and
         ``filter_pca``, ``filter_rmse_px`` ``(rows, 4)``.
     """
+    options = _pick(("study",), locals())
     ic_arr = as_float_array(ic, "ic")
     if ic_arr.ndim != 2 or ic_arr.shape[1] != 2:
         raise GeofeasError(f"ic: expected shape (n, 2) with columns xmax, vmax; got {ic_arr.shape}")
-    grid = None if snrs is None else [_float(s, "snrs") for s in snrs]
-    return dict(
-        _core.pf_study(
-            ic_arr,
-            runs=_int(runs, "runs", 1),
-            seed=_int(seed, "seed", 0),
-            truth=str(truth),
-            snrs=grid,
-            ic_snr=_float(ic_snr, "ic_snr"),
-            **_filter_options(
-                particles,
-                association,
-                resampling,
-                peaks,
-                min_separation,
-                smoothing,
-                sigma_w,
-                model_factors,
-            ),
-        )
-    )
+    return dict(_core.pf_study(ic_arr, **options))
 
 
 def pf_ellipses(result: dict[str, Any], frame: int = -1) -> NDArray[np.float64]:

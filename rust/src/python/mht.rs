@@ -9,12 +9,13 @@ use numpy::{
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use super::options::{read_one, schema_py};
 use super::{check_signals, detached};
 use crate::error::Error;
 use crate::tracking::mht::{
     bootstrap, group_scans, pool, run_one, study_cells, study_runs, trilaterate_gaussian, Cell,
-    Detection, Hypothesis, Metrics, Mht, MhtConfig, Noise, PaperPreset, Sensor, StudyOptions,
-    TrackerKind,
+    Detection, Hypothesis, Metrics, Mht, MhtBeam, MhtOptions, MhtRunOptions, MhtStudyOptions,
+    Sensor, TrackerKind,
 };
 
 fn matrix<'a>(
@@ -51,10 +52,6 @@ fn fixed<const N: usize>(
         }
         .into()
     })
-}
-
-fn tracker_kind(name: &str) -> PyResult<TrackerKind> {
-    Ok(TrackerKind::from_name(name)?)
 }
 
 /// Sensors from rows `[x, y, boresight, half_beam, max_range, max_range_rate]`.
@@ -111,25 +108,6 @@ fn to_2d<'py>(py: Python<'py>, flat: Vec<f64>, cols: usize) -> PyResult<Bound<'p
 /// A state vector and its covariance.
 type StateAndCovariance<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>);
 
-/// Refuses a count option above `max` (a bound on the work and memory of one call, far above
-/// the paper's settings).
-fn at_most(name: &'static str, value: usize, max: usize) -> crate::Result<usize> {
-    if value > max {
-        return Err(Error::InvalidOption {
-            name,
-            reason: format!("must be <= {max}, got {value}"),
-        });
-    }
-    Ok(value)
-}
-
-/// Most EKF relinearisations per update.
-const MAX_EKF_ITERATIONS: usize = 100;
-/// Most hypotheses kept.
-const MAX_HYPOTHESES: usize = 100_000;
-/// Most targets, sensors and false alarms per scan of a simulated run.
-const MAX_SCENARIO_COUNT: usize = 1000;
-
 /// Checks that a row-major 2x2 matrix is a covariance: symmetric (to `1e-12` relative) and
 /// positive definite.
 fn covariance_2x2(c: &[f64]) -> crate::Result<()> {
@@ -146,20 +124,23 @@ fn covariance_2x2(c: &[f64]) -> crate::Result<()> {
 
 /// Trilaterates two detections `(r, r')` of sensors at `pos_a`, `pos_b` (beams of half-width
 /// `half_beam` along `boresight`); returns the state `(x, y, vx, vy)` and its covariance (eq. 8).
+/// Keyword options: those of `mht_options()["beam"]`.
 #[pyfunction]
-#[pyo3(signature = (pos_a, z_a, cov_a, pos_b, z_b, cov_b, *, boresight=std::f64::consts::FRAC_PI_2, half_beam=std::f64::consts::FRAC_PI_2))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (pos_a, z_a, cov_a, pos_b, z_b, cov_b, **options))]
 fn mht_trilaterate<'py>(
-    py: Python<'py>,
     pos_a: PyReadonlyArray1<'py, f64>,
     z_a: PyReadonlyArray1<'py, f64>,
     cov_a: PyReadonlyArray2<'py, f64>,
     pos_b: PyReadonlyArray1<'py, f64>,
     z_b: PyReadonlyArray1<'py, f64>,
     cov_b: PyReadonlyArray2<'py, f64>,
-    boresight: f64,
-    half_beam: f64,
+    options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<StateAndCovariance<'py>> {
+    let py = pos_a.py();
+    let MhtBeam {
+        boresight,
+        half_beam,
+    } = read_one::<MhtBeam>(options)?;
     let sensor = |p: [f64; 2], row| {
         Sensor {
             position: p,
@@ -220,28 +201,16 @@ fn mht_trilaterate<'py>(
 
 /// Tracks detection rows `[time, sensor, range, range_rate]` (sorted by time) from sensors rows
 /// `[x, y, boresight, half_beam, max_range, max_range_rate]`.
+/// Keyword options: those of `mht_options()["tracker"]`.
 #[pyfunction]
-#[pyo3(signature = (detections, sensors, *, max_hypotheses=50, pd=0.9, false_alarm_density=1.0/3000.0, new_target_density=0.02/3000.0, accel_sigma=2.0*9.80665, sigma_range=0.05, sigma_range_rate=0.02, gate=16.0, max_coast=1.0, max_speed=15.0, ekf_iterations=2, single=false))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (detections, sensors, **options))]
 fn mht_track<'py>(
     py: Python<'py>,
     detections: PyReadonlyArray2<'py, f64>,
     sensors: PyReadonlyArray2<'py, f64>,
-    max_hypotheses: usize,
-    pd: f64,
-    false_alarm_density: f64,
-    new_target_density: f64,
-    accel_sigma: f64,
-    sigma_range: f64,
-    sigma_range_rate: f64,
-    gate: f64,
-    max_coast: f64,
-    max_speed: f64,
-    ekf_iterations: usize,
-    single: bool,
+    options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    at_most("ekf_iterations", ekf_iterations, MAX_EKF_ITERATIONS)?;
-    at_most("max_hypotheses", max_hypotheses, MAX_HYPOTHESES)?;
+    let config = read_one::<MhtOptions>(options)?.config()?;
     let flat = matrix("detections", &detections, 4)?;
     let sens = sensors_from(matrix("sensors", &sensors, 6)?)?;
     let mut dets = Vec::with_capacity(flat.len() / 4);
@@ -263,25 +232,6 @@ fn mht_track<'py>(
             target: None,
         });
     }
-    let mut config = MhtConfig {
-        max_hypotheses,
-        pd,
-        false_alarm_density,
-        new_target_density,
-        accel_sigma,
-        noise: Noise {
-            sigma_range,
-            sigma_range_rate,
-        },
-        gate,
-        max_coast,
-        max_speed,
-        ekf_iterations,
-        ..MhtConfig::default()
-    };
-    if single {
-        config = config.single_hypothesis();
-    }
     let n = dets.len();
     let (best, probability) = detached(py, move || {
         let scans = group_scans(&mut dets)?;
@@ -301,43 +251,22 @@ fn mht_track<'py>(
 
 /// Simulates and tracks one run of a paper scenario; returns detections, tracks, ellipses, truth
 /// and metrics.
+/// Keyword options: those of `mht_options()["run"]`.
 #[pyfunction]
-#[pyo3(signature = (*, targets=2, sensors=3, false_alarms=2, tracker="mht", run=0, seed=0, max_hypotheses=50, ekf_iterations=2, detection_probability=1.0, new_target_rate=0.02, confirm_probability=0.0, accel_sigma=2.0*9.80665))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (**options))]
 fn mht_simulate_run<'py>(
     py: Python<'py>,
-    targets: usize,
-    sensors: usize,
-    false_alarms: usize,
-    tracker: &str,
-    run: usize,
-    seed: u64,
-    max_hypotheses: usize,
-    ekf_iterations: usize,
-    detection_probability: f64,
-    new_target_rate: f64,
-    confirm_probability: f64,
-    accel_sigma: f64,
+    options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    at_most("ekf_iterations", ekf_iterations, MAX_EKF_ITERATIONS)?;
-    at_most("max_hypotheses", max_hypotheses, MAX_HYPOTHESES)?;
+    let r = read_one::<MhtRunOptions>(options)?;
+    let opts = r.study_options()?;
     let cell = Cell {
-        targets: at_most("targets", targets, MAX_SCENARIO_COUNT)?,
-        sensors: at_most("sensors", sensors, MAX_SCENARIO_COUNT)?,
-        tracker: tracker_kind(tracker)?,
-        false_alarms: at_most("false_alarms", false_alarms, MAX_SCENARIO_COUNT)?,
+        targets: r.targets,
+        sensors: r.sensors,
+        tracker: r.tracker,
+        false_alarms: r.false_alarms,
     };
-    let opts = StudyOptions {
-        runs: 1,
-        seed,
-        max_hypotheses,
-        ekf_iterations,
-        detection_probability,
-        new_target_rate,
-        confirm_probability,
-        accel_sigma,
-        ..StudyOptions::default()
-    };
+    let run = r.run;
     let o = detached(py, move || run_one(&cell, &opts, run))?;
     let n = o.detections.len();
     let (paths, ellipses, owner) = hypothesis_arrays(&o.best, n);
@@ -385,58 +314,18 @@ fn mht_simulate_run<'py>(
 
 /// The Monte-Carlo study of Tables 1 and 2: one row per cell (tracker x sensors x targets x
 /// false alarms), every metric with its percentile-bootstrap confidence interval over runs.
+/// Keyword options: those of `mht_options()["study"]`.
 #[pyfunction]
-#[pyo3(signature = (*, runs=20, seed=0, max_hypotheses=50, ekf_iterations=2, new_target_rate=0.02, detection_probability=1.0, confirm_probability=0.0, accel_sigma=2.0*9.80665, paper_ekf_iterations=0, paper_new_target_rate=1e-8, paper_confirm_probability=0.0, paper_accel_sigma=(4.0*9.80665f64).sqrt(), trackers=vec!["mht".to_string(), "mht-paper".to_string(), "single".to_string()], one_target=vec![0, 1, 2, 4, 6, 7, 8], two_targets=vec![0, 1, 2, 3, 4, 6, 8], resamples=1000, level=0.95))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (**options))]
 fn mht_study<'py>(
     py: Python<'py>,
-    runs: usize,
-    seed: u64,
-    max_hypotheses: usize,
-    ekf_iterations: usize,
-    new_target_rate: f64,
-    detection_probability: f64,
-    confirm_probability: f64,
-    accel_sigma: f64,
-    paper_ekf_iterations: usize,
-    paper_new_target_rate: f64,
-    paper_confirm_probability: f64,
-    paper_accel_sigma: f64,
-    trackers: Vec<String>,
-    one_target: Vec<usize>,
-    two_targets: Vec<usize>,
-    resamples: usize,
-    level: f64,
+    options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    at_most("ekf_iterations", ekf_iterations, MAX_EKF_ITERATIONS)?;
-    at_most("max_hypotheses", max_hypotheses, MAX_HYPOTHESES)?;
-    let opts = StudyOptions {
-        runs,
-        seed,
-        max_hypotheses,
-        ekf_iterations,
-        new_target_rate,
-        detection_probability,
-        confirm_probability,
-        accel_sigma,
-        paper: PaperPreset {
-            ekf_iterations: paper_ekf_iterations,
-            new_target_rate: paper_new_target_rate,
-            confirm_probability: paper_confirm_probability,
-            accel_sigma: paper_accel_sigma,
-        },
-    };
-    if !(level > 0.0 && level < 1.0) {
-        return Err(Error::InvalidOption {
-            name: "level",
-            reason: format!("must be in (0, 1), got {level}"),
-        }
-        .into());
-    }
-    let kinds = trackers
-        .iter()
-        .map(|t| tracker_kind(t))
-        .collect::<PyResult<Vec<_>>>()?;
+    let o = read_one::<MhtStudyOptions>(options)?;
+    let opts = o.study_options()?;
+    let (seed, resamples, level) = (o.seed, o.resamples, o.level);
+    let kinds = o.trackers.0;
+    let (one_target, two_targets) = (o.one_target, o.two_targets);
     let cells = study_cells(&kinds, &one_target, &two_targets);
     let rows = detached(py, || {
         let per_cell = study_runs(&cells, &opts, &mut check_signals)?;
@@ -521,44 +410,15 @@ pub struct PyMhtTracker {
 
 #[pymethods]
 impl PyMhtTracker {
+    /// Keyword options: those of `mht_options()["tracker"]`.
     #[new]
-    #[pyo3(signature = (sensors, *, max_hypotheses=50, pd=0.9, false_alarm_density=1.0/3000.0, new_target_density=0.02/3000.0, accel_sigma=2.0*9.80665, sigma_range=0.05, sigma_range_rate=0.02, gate=16.0, max_coast=1.0, max_speed=15.0, ekf_iterations=2, single=false))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (sensors, **options))]
     fn new(
         sensors: PyReadonlyArray2<'_, f64>,
-        max_hypotheses: usize,
-        pd: f64,
-        false_alarm_density: f64,
-        new_target_density: f64,
-        accel_sigma: f64,
-        sigma_range: f64,
-        sigma_range_rate: f64,
-        gate: f64,
-        max_coast: f64,
-        max_speed: f64,
-        ekf_iterations: usize,
-        single: bool,
+        options: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
+        let config = read_one::<MhtOptions>(options)?.config()?;
         let sens = sensors_from(matrix("sensors", &sensors, 6)?)?;
-        let mut config = MhtConfig {
-            max_hypotheses,
-            pd,
-            false_alarm_density,
-            new_target_density,
-            accel_sigma,
-            noise: Noise {
-                sigma_range,
-                sigma_range_rate,
-            },
-            gate,
-            max_coast,
-            max_speed,
-            ekf_iterations,
-            ..MhtConfig::default()
-        };
-        if single {
-            config = config.single_hypothesis();
-        }
         Ok(Self {
             mht: Mht::new(sens, config)?,
             detections: 0,
@@ -664,7 +524,20 @@ impl PyMhtTracker {
     }
 }
 
+/// The option sets of the MHT: `{"tracker", "run", "study", "beam"}` to lists of
+/// `(name, kind, default, doc, choices)`, in declaration order.
+#[pyfunction]
+fn mht_options(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("tracker", schema_py::<MhtOptions>(py)?)?;
+    out.set_item("run", schema_py::<MhtRunOptions>(py)?)?;
+    out.set_item("study", schema_py::<MhtStudyOptions>(py)?)?;
+    out.set_item("beam", schema_py::<MhtBeam>(py)?)?;
+    Ok(out)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(mht_options, m)?)?;
     m.add_function(wrap_pyfunction!(mht_trilaterate, m)?)?;
     m.add_function(wrap_pyfunction!(mht_track, m)?)?;
     m.add_function(wrap_pyfunction!(mht_simulate_run, m)?)?;

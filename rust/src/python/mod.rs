@@ -7,6 +7,7 @@ use pyo3::prelude::*;
 mod association;
 mod fusion;
 mod mht;
+mod options;
 mod pf;
 mod scores;
 

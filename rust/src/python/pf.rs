@@ -7,92 +7,15 @@ use numpy::{
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use super::options::{read_one, read_two, schema_py};
 use super::{check_signals, detached};
 use crate::error::{Error, Result};
 use crate::score::monte_carlo::stream;
 use crate::tracking::pf::{
-    find_peaks, peak_label, study, Association, Bank, Cell, Frame, LikelihoodModel, Method, Ncv,
-    Particles, PeakOptions, PfConfig, Psf, Resampling, RunSpec, Scenario, Step, StudyOptions,
-    TruthModel,
+    find_peaks, peak_label, study, track_frames, track_truth, Bank, Cell, Frame, LikelihoodModel,
+    Method, Particles, PeakOptions, PfOptions, PfRunOptions, PfStudyOptions, PfTrackOptions, Psf,
+    RunSpec, Scenario, Step, StudyOptions,
 };
-
-/// Filter options shared by the tracking entry points.
-#[derive(Clone, Copy)]
-struct FilterArgs {
-    particles: usize,
-    association: Association,
-    resampling: Resampling,
-    resample_threshold: f64,
-    peaks: PeakOptions,
-    xmax: f64,
-    vmax: f64,
-    sigma_w: f64,
-    r1: f64,
-    factors: [f64; 3],
-    half_box: usize,
-}
-
-impl FilterArgs {
-    fn config(&self, method: Method, psf: &Psf, sigma_z: f64, dt: f64) -> Result<PfConfig> {
-        let base = PfConfig::paper(method, psf, sigma_z);
-        PfConfig {
-            particles: self.particles,
-            association: self.association,
-            resampling: self.resampling,
-            resample_threshold: self.resample_threshold,
-            peaks: self.peaks,
-            xmax: self.xmax,
-            vmax: self.vmax,
-            r1: self.r1,
-            motion: Ncv {
-                dt,
-                sigma_w: self.sigma_w,
-            },
-            model: LikelihoodModel {
-                half_box: self.half_box,
-                ..LikelihoodModel::scaled(psf, sigma_z, self.factors)
-            },
-            ..base
-        }
-        .validated()
-    }
-}
-
-#[allow(clippy::too_many_arguments)]
-fn filter_args(
-    particles: usize,
-    association: &str,
-    resampling: &str,
-    resample_threshold: f64,
-    peaks: usize,
-    min_separation: f64,
-    smoothing: f64,
-    xmax: f64,
-    vmax: f64,
-    sigma_w: f64,
-    r1: f64,
-    model_factors: (f64, f64, f64),
-    half_box: usize,
-) -> Result<FilterArgs> {
-    Ok(FilterArgs {
-        particles,
-        association: Association::from_name(association)?,
-        resampling: Resampling::from_name(resampling)?,
-        resample_threshold,
-        peaks: PeakOptions {
-            count: peaks,
-            min_separation,
-            smoothing,
-        }
-        .validated()?,
-        xmax,
-        vmax,
-        sigma_w,
-        r1,
-        factors: [model_factors.0, model_factors.1, model_factors.2],
-        half_box,
-    })
-}
 
 /// An `(n, 2)` array of finite points as its flat buffer; errors name the array, row and field.
 fn points2<'a>(what: &'static str, arr: &'a PyReadonlyArray2<'_, f64>) -> PyResult<&'a [f64]> {
@@ -120,30 +43,12 @@ fn points2<'a>(what: &'static str, arr: &'a PyReadonlyArray2<'_, f64>) -> PyResu
     Ok(flat)
 }
 
-fn method_of(n: u32) -> Result<Method> {
-    Method::from_number(n)
-}
-
-fn truth_model(name: &str) -> Result<TruthModel> {
-    match name {
-        "white" => Ok(TruthModel::White {
-            sigma_l: 0.5,
-            sigma_n: 1.0,
-        }),
-        "jerk" => Ok(TruthModel::Jerk {
-            sigma_l: 0.5,
-            sigma_n: 1.0,
-        }),
-        "gauss-markov" => Ok(TruthModel::GaussMarkov {
-            sigma_l: 0.5,
-            sigma_n: 1.0,
-            tau: 1.0,
-        }),
-        "ncv" => Ok(TruthModel::Ncv { sigma_w: 0.5 }),
-        other => Err(Error::InvalidOption {
-            name: "truth",
-            reason: format!("expected 'white', 'jerk', 'gauss-markov' or 'ncv', got '{other}'"),
-        }),
+/// The interrupt hook of the frame loop: Ctrl-C is checked every tenth frame.
+fn every_tenth_frame() -> impl FnMut() -> bool {
+    let mut k = 0usize;
+    move || {
+        k += 1;
+        (k - 1) % 10 == 0 && check_signals()
     }
 }
 
@@ -218,63 +123,37 @@ impl Recorder {
     }
 }
 
-/// Simulates one run of the paper's scenario at `snr_db` and tracks it.
+/// Simulates one run of the paper's scenario and tracks it; keyword options are those of
+/// `pf_options()["run"]` and `pf_options()["filter"]`.
 #[pyfunction]
-#[pyo3(signature = (*, snr_db=15.0, method=2, seed=0, run=0, truth="white", particles=10000, association="nearest", resampling="systematic", resample_threshold=1.0, peaks=4, min_separation=3.0, smoothing=0.0, xmax=3.0, vmax=0.5, sigma_w=0.5, r1=1.0, model_factors=(0.8, 1.5, 1.5), half_box=10, snapshot_frames=vec![], snapshot_particles=300, keep_frames=vec![]))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (**options))]
 fn pf_simulate_run<'py>(
     py: Python<'py>,
-    snr_db: f64,
-    method: u32,
-    seed: u64,
-    run: u64,
-    truth: &str,
-    particles: usize,
-    association: &str,
-    resampling: &str,
-    resample_threshold: f64,
-    peaks: usize,
-    min_separation: f64,
-    smoothing: f64,
-    xmax: f64,
-    vmax: f64,
-    sigma_w: f64,
-    r1: f64,
-    model_factors: (f64, f64, f64),
-    half_box: usize,
-    snapshot_frames: Vec<usize>,
-    snapshot_particles: usize,
-    keep_frames: Vec<usize>,
+    options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let args = filter_args(
-        particles,
-        association,
-        resampling,
-        resample_threshold,
-        peaks,
-        min_separation,
-        smoothing,
-        xmax,
-        vmax,
-        sigma_w,
-        r1,
-        model_factors,
-        half_box,
-    )?;
+    let (run, filter) = read_two::<PfRunOptions, PfOptions>(options)?;
+    if run.snapshot_particles == 0 {
+        return Err(Error::InvalidOption {
+            name: "snapshot_particles",
+            reason: "must be >= 1".into(),
+        }
+        .into());
+    }
     let spec = RunSpec {
         scenario: Scenario {
-            model: truth_model(truth)?,
+            model: run.truth.model(),
             ..Scenario::paper()
         },
-        ..RunSpec::paper(snr_db, seed, run)
+        ..RunSpec::paper(run.snr_db, run.seed, run.run)
     }
     .validated()?;
-    let cfg = args.config(
-        method_of(method)?,
-        &spec.psf,
-        spec.sigma_z(),
-        spec.scenario.dt,
-    )?;
+    let cfg = filter.config(run.method, &spec.psf, spec.sigma_z(), spec.scenario.dt)?;
+    let PfRunOptions {
+        snapshot_frames,
+        snapshot_particles,
+        keep_frames,
+        ..
+    } = run;
     let n_frames = spec.scenario.frames();
     for &k in snapshot_frames.iter().chain(&keep_frames) {
         if k >= n_frames {
@@ -286,49 +165,48 @@ fn pf_simulate_run<'py>(
         }
     }
     let targets = spec.scenario.starts.len();
-    let (width, height, dt, sigma_z) = (
+    let (width, height, dt, sigma_z, filter_seed) = (
         spec.scenario.width,
         spec.scenario.height,
         spec.scenario.dt,
         spec.sigma_z(),
+        spec.filter_seed(),
     );
     let (rec, truth_rows, correct, snaps, kept) = detached(py, move || {
         let truth = spec.truth();
-        let init: Vec<[f64; 4]> = truth.states[0].iter().map(|s| s.xv()).collect();
-        let mut bank = Bank::new(&init, cfg, spec.filter_seed())?;
         let mut rec = Recorder::new(targets, cfg.peaks.count);
         let mut correct = Vec::with_capacity(n_frames * targets);
         let mut snaps = Vec::new();
         let mut kept = Vec::new();
-        for k in 0..n_frames {
-            if k % 10 == 0 && check_signals() {
-                return Err(Error::Interrupted);
-            }
-            let frame = spec.frame(&truth, k);
-            // Particles before this frame's resampling are the prior cloud; the cloud after it
-            // is the equally weighted posterior, which the snapshot shows.
-            let step = bank.step(&frame);
-            for (i, r) in step.filters.iter().enumerate() {
-                let ok = r
-                    .peak
-                    .is_some_and(|j| peak_label(&step.peaks[j], &truth.states[k]) == Some(i));
-                correct.push(ok);
-            }
-            rec.push(&step);
-            if snapshot_frames.contains(&k) {
-                for i in 0..targets {
-                    let p: &Particles = bank.particles(i);
-                    let m = snapshot_particles.min(p.len()).max(1);
-                    let stride = (p.len() / m).max(1);
-                    for n in (0..p.len()).step_by(stride).take(m) {
-                        snaps.extend_from_slice(&[k as f64, i as f64, p.x[n], p.y[n]]);
+        track_truth(
+            &spec,
+            &truth,
+            &[cfg],
+            |_, k, frame, step, bank| {
+                for (i, r) in step.filters.iter().enumerate() {
+                    let ok = r
+                        .peak
+                        .is_some_and(|j| peak_label(&step.peaks[j], &truth.states[k]) == Some(i));
+                    correct.push(ok);
+                }
+                rec.push(step);
+                // The cloud after this frame's resampling: the equally weighted posterior.
+                if snapshot_frames.contains(&k) {
+                    for i in 0..targets {
+                        let p: &Particles = bank.particles(i);
+                        let m = snapshot_particles.min(p.len()).max(1);
+                        let stride = (p.len() / m).max(1);
+                        for n in (0..p.len()).step_by(stride).take(m) {
+                            snaps.extend_from_slice(&[k as f64, i as f64, p.x[n], p.y[n]]);
+                        }
                     }
                 }
-            }
-            if keep_frames.contains(&k) {
-                kept.extend_from_slice(&frame.data);
-            }
-        }
+                if keep_frames.contains(&k) {
+                    kept.extend_from_slice(&frame.data);
+                }
+            },
+            &mut every_tenth_frame(),
+        )?;
         let mut rows = Vec::with_capacity(n_frames * targets * 8);
         for row in &truth.states {
             for s in row {
@@ -354,52 +232,29 @@ fn pf_simulate_run<'py>(
     )?;
     out.set_item("sigma_z", sigma_z)?;
     out.set_item("dt", dt)?;
+    out.set_item("filter_seed", filter_seed)?;
     Ok(out)
 }
 
-/// Tracks user frames `(F, H, W)` with one filter per row of `init` (`x, y, vx, vy`).
+/// Tracks user frames `(F, H, W)` with one filter per row of `init` (`x, y, vx, vy`); keyword
+/// options are those of `pf_options()["track"]` and `pf_options()["filter"]`.
 #[pyfunction]
-#[pyo3(signature = (frames, init, *, sigma_z, method=2, amplitude=1.0, blur=2.0, dt=0.1, seed=0, particles=10000, association="nearest", resampling="systematic", resample_threshold=1.0, peaks=4, min_separation=3.0, smoothing=0.0, xmax=3.0, vmax=0.5, sigma_w=0.5, r1=1.0, model_factors=(0.8, 1.5, 1.5), half_box=10))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (frames, init, *, sigma_z, **options))]
 fn pf_track<'py>(
     py: Python<'py>,
     frames: PyReadonlyArray3<'py, f64>,
     init: PyReadonlyArray2<'py, f64>,
     sigma_z: f64,
-    method: u32,
-    amplitude: f64,
-    blur: f64,
-    dt: f64,
-    seed: u64,
-    particles: usize,
-    association: &str,
-    resampling: &str,
-    resample_threshold: f64,
-    peaks: usize,
-    min_separation: f64,
-    smoothing: f64,
-    xmax: f64,
-    vmax: f64,
-    sigma_w: f64,
-    r1: f64,
-    model_factors: (f64, f64, f64),
-    half_box: usize,
+    options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let args = filter_args(
-        particles,
-        association,
-        resampling,
-        resample_threshold,
-        peaks,
-        min_separation,
-        smoothing,
-        xmax,
-        vmax,
-        sigma_w,
-        r1,
-        model_factors,
-        half_box,
-    )?;
+    let (opts, filter) = read_two::<PfTrackOptions, PfOptions>(options)?;
+    let PfTrackOptions {
+        method,
+        amplitude,
+        blur,
+        dt,
+        seed,
+    } = opts;
     let psf = Psf { amplitude, blur }.validated("psf")?;
     if !(sigma_z.is_finite() && sigma_z > 0.0) {
         return Err(Error::InvalidOption {
@@ -408,7 +263,7 @@ fn pf_track<'py>(
         }
         .into());
     }
-    let cfg = args.config(method_of(method)?, &psf, sigma_z, dt)?;
+    let cfg = filter.config(method, &psf, sigma_z, dt)?;
     let shape = frames.shape().to_vec();
     let (h, w) = (shape[1], shape[2]);
     if h == 0 || w == 0 {
@@ -450,19 +305,18 @@ fn pf_track<'py>(
         .collect();
     let targets = init.len();
     let rec = detached(py, move || {
-        let mut bank = Bank::new(&init, cfg, seed)?;
         let mut rec = Recorder::new(targets, cfg.peaks.count);
-        for (k, chunk) in data.chunks_exact(h * w).enumerate() {
-            if k % 10 == 0 && check_signals() {
-                return Err(Error::Interrupted);
-            }
-            let frame = Frame {
-                width: w,
-                height: h,
-                data: chunk.to_vec(),
-            };
-            rec.push(&bank.step(&frame));
-        }
+        let frames = data.chunks_exact(h * w).map(|chunk| Frame {
+            width: w,
+            height: h,
+            data: chunk.to_vec(),
+        });
+        track_frames(
+            &mut [Bank::new(&init, cfg, seed)?],
+            frames,
+            |_, _, _, step, _| rec.push(step),
+            &mut every_tenth_frame(),
+        )?;
         Ok(rec)
     })?;
     let out = PyDict::new(py);
@@ -531,9 +385,7 @@ fn pf_peaks<'py>(
 /// A simulated frame `(height, width)` of point spreads at `positions` `(T, 2)` plus noise.
 #[pyfunction]
 #[pyo3(signature = (positions, *, width=256, height=256, amplitude=1.0, blur=2.0, sigma=0.1, seed=0))]
-#[allow(clippy::too_many_arguments)]
 fn pf_render<'py>(
-    py: Python<'py>,
     positions: PyReadonlyArray2<'py, f64>,
     width: usize,
     height: usize,
@@ -559,6 +411,7 @@ fn pf_render<'py>(
     }
     let flat = points2("positions", &positions)?;
     let pos: Vec<[f64; 2]> = flat.chunks_exact(2).map(|r| [r[0], r[1]]).collect();
+    let py = positions.py();
     let f = detached(py, move || {
         Ok(Frame::render(
             width,
@@ -572,28 +425,17 @@ fn pf_render<'py>(
     f.data.into_pyarray(py).reshape([height, width])
 }
 
-/// The Monte-Carlo study: PCA / errors against SNR (`snrs`, default 0..=20 dB) for both methods,
-/// and Method 2's initial-condition sensitivity at `ic_snr` for the `(xmax, vmax)` rows of `ic`.
+/// The Monte-Carlo study: PCA / errors against SNR for both methods, and Method 2's
+/// initial-condition sensitivity for the `(xmax, vmax)` rows of `ic`; keyword options are those
+/// of `pf_options()["study"]`.
 #[pyfunction]
-#[pyo3(signature = (ic, *, runs=4, seed=0, truth="white", particles=10000, association="nearest", resampling="systematic", peaks=4, min_separation=3.0, smoothing=0.0, sigma_w=0.5, model_factors=(0.8, 1.5, 1.5), snrs=None, ic_snr=2.0))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (ic, **options))]
 fn pf_study<'py>(
     py: Python<'py>,
     ic: PyReadonlyArray2<'py, f64>,
-    runs: usize,
-    seed: u64,
-    truth: &str,
-    particles: usize,
-    association: &str,
-    resampling: &str,
-    peaks: usize,
-    min_separation: f64,
-    smoothing: f64,
-    sigma_w: f64,
-    model_factors: (f64, f64, f64),
-    snrs: Option<Vec<f64>>,
-    ic_snr: f64,
+    options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let o = read_one::<PfStudyOptions>(options)?;
     let shape = ic.shape();
     if shape[1] != 2 {
         return Err(Error::Shape {
@@ -607,7 +449,7 @@ fn pf_study<'py>(
         .as_slice()
         .map_err(|e| Error::Invalid(format!("ic: {e}")))?;
     let ic: Vec<(f64, f64)> = flat.chunks_exact(2).map(|r| (r[0], r[1])).collect();
-    let grid = snrs.unwrap_or_else(|| (0..=20).map(f64::from).collect());
+    let grid = o.snrs.unwrap_or_else(|| (0..=20).map(f64::from).collect());
     let mut cells: Vec<Cell> = Vec::new();
     for method in [Method::PeakDistance, Method::LikelihoodRatio] {
         for &snr_db in &grid {
@@ -622,27 +464,27 @@ fn pf_study<'py>(
     for &(xmax, vmax) in &ic {
         cells.push(Cell {
             method: Method::LikelihoodRatio,
-            snr_db: ic_snr,
+            snr_db: o.ic_snr,
             xmax,
             vmax,
         });
     }
     let opts = StudyOptions {
-        runs,
-        seed,
-        particles,
-        association: Association::from_name(association)?,
-        resampling: Resampling::from_name(resampling)?,
+        runs: o.runs,
+        seed: o.seed,
+        particles: o.particles,
+        association: o.association,
+        resampling: o.resampling,
         peaks: PeakOptions {
-            count: peaks,
-            min_separation,
-            smoothing,
+            count: o.peaks,
+            min_separation: o.min_separation,
+            smoothing: o.smoothing,
         }
         .validated()?,
-        model_factors: [model_factors.0, model_factors.1, model_factors.2],
-        sigma_w,
+        model_factors: o.model_factors,
+        sigma_w: o.sigma_w,
         scenario: Scenario {
-            model: truth_model(truth)?,
+            model: o.truth.model(),
             ..Scenario::paper()
         },
     };
@@ -708,7 +550,20 @@ fn pf_study<'py>(
     Ok(out)
 }
 
+/// The option sets of the particle filter: `{"filter", "run", "track", "study"}` to lists of
+/// `(name, kind, default, doc, choices)`, in declaration order.
+#[pyfunction]
+fn pf_options(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("filter", schema_py::<PfOptions>(py)?)?;
+    out.set_item("run", schema_py::<PfRunOptions>(py)?)?;
+    out.set_item("track", schema_py::<PfTrackOptions>(py)?)?;
+    out.set_item("study", schema_py::<PfStudyOptions>(py)?)?;
+    Ok(out)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(pf_options, m)?)?;
     m.add_function(wrap_pyfunction!(pf_simulate_run, m)?)?;
     m.add_function(wrap_pyfunction!(pf_track, m)?)?;
     m.add_function(wrap_pyfunction!(pf_log_weights, m)?)?;

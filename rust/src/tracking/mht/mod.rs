@@ -8,8 +8,12 @@
 //! - [`trilateration`]: two detections to a Cartesian state and its covariance (eqs. 1-9).
 //! - [`range_doppler`]: Kalman filter of single-sensor tracks (section 4.2).
 //! - [`cartesian`]: extended Kalman filter of multi-sensor tracks (section 4.3).
+//! - [`config`]: the tracker's options ([`MhtConfig`]), read by tracks and hypotheses alike.
 //! - [`track`]: flexible-state tracks and the three association types (section 3).
-//! - [`hypothesis`]: Reid's measurement-oriented MHT and the single-hypothesis baseline.
+//! - [`hypothesis`]: Reid's measurement-oriented MHT and the single-hypothesis baseline; it
+//!   holds tracks, tracks never see hypotheses (`config` <- `track` <- `hypothesis`).
+//! - [`options`](mod@options): the option sets of the tracker, a run, the study and a
+//!   trilateration's beam.
 //! - [`metrics`]: T_PD, T_FAR, position and velocity errors (section 5.2), GOSPA, identity
 //!   switches and fragmentation.
 //! - [`study`]: the Monte-Carlo reproduction of Tables 1 and 2.
@@ -35,8 +39,10 @@
 //! ```
 
 pub mod cartesian;
+pub mod config;
 pub mod hypothesis;
 pub mod metrics;
+pub mod options;
 pub mod range_doppler;
 pub mod scenario;
 pub mod sensor;
@@ -46,8 +52,10 @@ pub mod trilateration;
 
 use nalgebra::{Matrix2, Vector2};
 
-pub use hypothesis::{group_scans, Hypothesis, Mht, MhtConfig};
+pub use config::MhtConfig;
+pub use hypothesis::{group_scans, Hypothesis, Mht};
 pub use metrics::{Evaluation, Metrics, Scorer, Tally};
+pub use options::{MhtBeam, MhtOptions, MhtRunOptions, MhtStudyOptions};
 pub use scenario::{Scenario, Trajectory};
 pub use sensor::{Detection, Noise, Sensor};
 pub use study::{

@@ -17,7 +17,8 @@
 
 use rayon::prelude::*;
 
-use super::hypothesis::{Hypothesis, Mht, MhtConfig};
+use super::config::MhtConfig;
+use super::hypothesis::{Hypothesis, Mht};
 use super::metrics::{Evaluation, Metrics, Scorer, Tally};
 use super::scenario::Scenario;
 use super::scenario::G;

@@ -24,7 +24,7 @@ use std::sync::Arc;
 use nalgebra::{Matrix2, Vector2};
 
 use super::cartesian::Cartesian;
-use super::hypothesis::MhtConfig;
+use super::config::MhtConfig;
 use super::range_doppler::RangeDoppler;
 use super::sensor::{Detection, Sensor};
 use super::trilateration::trilaterate_gaussian;

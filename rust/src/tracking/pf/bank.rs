@@ -4,7 +4,7 @@
 //! For each frame `k`: every filter propagates its particles (Fig. 4; not on the first frame,
 //! where the particles are the uniform initialisation about the truth); the frame's peaks are
 //! extracted ([`crate::tracking::pf::peaks`]); each filter computes `R_i^j` from its prior
-//! particles and prior weights and the peaks are assigned ([`Association`]); the weights are
+//! particles and prior weights and the peaks are assigned ([`Assignment`]); the weights are
 //! multiplied by Method 1's or Method 2's likelihood ([`Method`]) and renormalised; the posterior
 //! mean and covariance and the Fig. 12 residual are recorded; the filter resamples when its
 //! effective sample size is below `resample_threshold x N` (1: every frame, the paper's SIR).
@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::score::monte_carlo::stream;
-use crate::tracking::pf::association::{weighted_distances, Association};
+use crate::tracking::pf::assignment::{weighted_distances, Assignment};
 use crate::tracking::pf::filter::{Estimate, ParticleFilter};
 use crate::tracking::pf::frame::{Frame, Psf};
 use crate::tracking::pf::motion::{Ncv, Particles};
@@ -76,7 +76,7 @@ pub struct PfConfig {
     /// Resample when ESS < threshold x N (>= 1: every frame).
     pub resample_threshold: f64,
     /// Peak-to-filter association.
-    pub association: Association,
+    pub association: Assignment,
     /// Peak extraction.
     pub peaks: PeakOptions,
     /// Half-width of the uniform position initialisation, pixels (paper: 3).
@@ -101,7 +101,7 @@ impl PfConfig {
             model: LikelihoodModel::paper(psf, sigma_z),
             resampling: Resampling::Systematic,
             resample_threshold: 1.0,
-            association: Association::Nearest,
+            association: Assignment::Nearest,
             peaks: PeakOptions::default(),
             xmax: 3.0,
             vmax: 0.5,

@@ -9,11 +9,12 @@
 //! - [`weights`]: Method 1 (distance to the associated peak) and Method 2 (the
 //!   track-before-detect likelihood ratio, separable point spread, log domain).
 //! - [`resample`]: systematic, stratified, multinomial and residual resampling.
-//! - [`association`]: the weighted-nearest-neighbour rule `R_i^j = sum_n w_i^n r_ij^n` and a
-//!   one-to-one variant.
+//! - [`assignment`]: which peak each filter takes: the weighted-nearest-neighbour rule
+//!   `R_i^j = sum_n w_i^n r_ij^n` and a one-to-one variant.
 //! - [`filter`]: one particle filter: update, estimate and 2-sigma bounds, Fig. 12 residuals.
 //! - [`bank`]: the bank of filters, frame by frame.
-//! - [`run`]: one seeded run (truth, frames, banks).
+//! - [`options`](mod@options): the option sets of the bank, a run, given frames and the study.
+//! - [`run`]: the frame loop ([`track_frames`]) and one seeded run (truth, frames, banks).
 //! - [`metrics`]: errors, probability of correct association, 2-sigma coverage, held tracks.
 //! - [`study`](mod@study): the Monte-Carlo reproduction of Figs. 7-20.
 //!
@@ -40,12 +41,13 @@
 //! }
 //! ```
 
-pub mod association;
+pub mod assignment;
 pub mod bank;
 pub mod filter;
 pub mod frame;
 pub mod metrics;
 pub mod motion;
+pub mod options;
 pub mod peaks;
 pub mod resample;
 pub mod run;
@@ -53,15 +55,20 @@ pub mod scenario;
 pub mod study;
 pub mod weights;
 
-pub use association::{weighted_distances, Association};
+pub use assignment::{weighted_distances, Assignment};
+
+/// The former name of [`Assignment`].
+#[deprecated(note = "renamed `Assignment` (module `assignment`)")]
+pub type Association = Assignment;
 pub use bank::{Bank, Method, PfConfig, Step, StepRecord};
 pub use filter::{Estimate, ParticleFilter};
 pub use frame::{noise_sigma, Frame, Psf};
 pub use metrics::{peak_label, BankMetrics, BankTally, FilterMetrics, FilterTally};
 pub use motion::{Ncv, Particles};
+pub use options::{PfOptions, PfRunOptions, PfStudyOptions, PfTrackOptions, TruthKind};
 pub use peaks::{find_peaks, Peak, PeakOptions};
 pub use resample::Resampling;
-pub use run::{track_run, RunSpec};
+pub use run::{track_frames, track_run, track_truth, RunSpec};
 pub use scenario::{Scenario, TargetStart, Truth, TruthModel, TruthState};
 pub use study::{bootstrap, paper_cells, study, Cell, CellResult, StudyOptions};
 pub use weights::LikelihoodModel;

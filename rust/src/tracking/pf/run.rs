@@ -97,21 +97,46 @@ impl RunSpec {
 pub fn track_run(
     spec: &RunSpec,
     configs: &[PfConfig],
-    mut observe: impl FnMut(usize, usize, &Frame, &Step, &Bank),
+    observe: impl FnMut(usize, usize, &Frame, &Step, &Bank),
     interrupt: &mut dyn FnMut() -> bool,
 ) -> Result<Truth> {
     let truth = spec.truth();
+    track_truth(spec, &truth, configs, observe, interrupt)?;
+    Ok(truth)
+}
+
+/// [`track_run`] on the run's truth already simulated (`truth` is `spec.truth()`), for callers
+/// that read the truth while observing the steps.
+pub fn track_truth(
+    spec: &RunSpec,
+    truth: &Truth,
+    configs: &[PfConfig],
+    observe: impl FnMut(usize, usize, &Frame, &Step, &Bank),
+    interrupt: &mut dyn FnMut() -> bool,
+) -> Result<()> {
     let init: Vec<[f64; 4]> = truth.states[0].iter().map(|s| s.xv()).collect();
     let mut banks = configs
         .iter()
         .map(|c| Bank::new(&init, *c, spec.filter_seed()))
         .collect::<Result<Vec<_>>>()?;
-    for k in 0..truth.frames() {
+    let frames = (0..truth.frames()).map(|k| spec.frame(truth, k));
+    track_frames(&mut banks, frames, observe, interrupt)
+}
+
+/// The frame loop of every tracking entry point: each frame, in order, goes through every bank;
+/// `observe(bank index, frame index, frame, step, bank)` sees every step, and `interrupt` is
+/// polled before each frame (true stops with [`crate::Error::Interrupted`]). Banks with the same
+/// peak options share one peak extraction per frame.
+pub fn track_frames(
+    banks: &mut [Bank],
+    frames: impl IntoIterator<Item = Frame>,
+    mut observe: impl FnMut(usize, usize, &Frame, &Step, &Bank),
+    interrupt: &mut dyn FnMut() -> bool,
+) -> Result<()> {
+    for (k, frame) in frames.into_iter().enumerate() {
         if interrupt() {
             return Err(crate::error::Error::Interrupted);
         }
-        let frame = spec.frame(&truth, k);
-        // Banks with the same peak options share one extraction.
         let mut cache: Option<(PeakOptions, Vec<Peak>)> = None;
         for (b, bank) in banks.iter_mut().enumerate() {
             let opts = bank.config().peaks;
@@ -127,5 +152,5 @@ pub fn track_run(
             observe(b, k, &frame, &step, bank);
         }
     }
-    Ok(truth)
+    Ok(())
 }

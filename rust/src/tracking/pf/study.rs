@@ -11,12 +11,12 @@
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::tracking::pf::association::Association;
+use crate::tracking::pf::assignment::Assignment;
 use crate::tracking::pf::bank::{Method, PfConfig};
 use crate::tracking::pf::metrics::{pooled, BankMetrics, BankTally, FilterMetrics, FilterTally};
 use crate::tracking::pf::peaks::PeakOptions;
 use crate::tracking::pf::resample::Resampling;
-use crate::tracking::pf::run::{track_run, RunSpec};
+use crate::tracking::pf::run::{track_truth, RunSpec};
 use crate::tracking::pf::scenario::Scenario;
 use crate::tracking::pf::weights::LikelihoodModel;
 
@@ -42,8 +42,8 @@ pub struct StudyOptions {
     pub seed: u64,
     /// Particles per filter (paper: 10,000).
     pub particles: usize,
-    /// Association rule.
-    pub association: Association,
+    /// Assignment rule.
+    pub association: Assignment,
     /// Resampling scheme.
     pub resampling: Resampling,
     /// Peak extraction.
@@ -62,7 +62,7 @@ impl Default for StudyOptions {
             runs: 10,
             seed: 0,
             particles: 10_000,
-            association: Association::Nearest,
+            association: Assignment::Nearest,
             resampling: Resampling::Systematic,
             peaks: PeakOptions::default(),
             model_factors: [0.8, 1.5, 1.5],
@@ -252,8 +252,9 @@ pub fn study(
                 let mut t = vec![vec![FilterTally::default(); targets]; members.len()];
                 let mut bt = vec![BankTally::default(); members.len()];
                 let truth_states = spec.truth();
-                track_run(
+                track_truth(
                     &spec,
+                    &truth_states,
                     &configs,
                     |b, k, _, step, _| {
                         for (i, ti) in t[b].iter_mut().enumerate() {

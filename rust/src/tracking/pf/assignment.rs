@@ -1,10 +1,12 @@
-//! Weighted-nearest-neighbour data association of seed 003, section III.
+//! Measurement-to-filter assignment of seed 003, section III (the paper's "data association":
+//! which intensity peak of a frame each particle filter takes; unrelated to the track-to-track
+//! association of [`crate::association`]).
 //!
 //! For filter `i` with prior particles `(x_i^n, y_i^n)` and prior normalised weights `w_i^n`,
 //! and peak `j` at `(x*_j, y*_j)`: `r_ij^n = |(x_i^n, y_i^n) - (x*_j, y*_j)|` and the weighted
-//! mean distance `R_i^j = sum_n w_i^n r_ij^n`. The paper's rule ([`Association::Nearest`]) gives
+//! mean distance `R_i^j = sum_n w_i^n r_ij^n`. The paper's rule ([`Assignment::Nearest`]) gives
 //! filter `i` the peak `j* = argmin_j R_i^j`, independently for each filter, so two filters may
-//! take the same peak. [`Association::OneToOne`] instead picks the assignment of distinct peaks
+//! take the same peak. [`Assignment::OneToOne`] instead picks the assignment of distinct peaks
 //! to filters that minimises `sum_i R_i^{j(i)}` (exact, by dynamic programming over subsets of
 //! peaks, for up to 16 peaks; greedy by increasing `R` beyond).
 
@@ -12,9 +14,9 @@ use crate::error::{Error, Result};
 use crate::tracking::pf::motion::Particles;
 use crate::tracking::pf::peaks::Peak;
 
-/// How filters take peaks.
+/// How filters take peaks (the `association` option of the filters).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Association {
+pub enum Assignment {
     /// The paper's rule: each filter its nearest peak by `R_i^j`.
     #[default]
     Nearest,
@@ -22,7 +24,7 @@ pub enum Association {
     OneToOne,
 }
 
-impl Association {
+impl Assignment {
     /// `"nearest"` or `"one-to-one"`.
     pub fn from_name(name: &str) -> Result<Self> {
         match name {
@@ -189,12 +191,12 @@ mod tests {
             vec![9.0, 9.0, 3.0],
         ];
         assert_eq!(
-            Association::Nearest.assign(&r),
+            Assignment::Nearest.assign(&r),
             vec![Some(0), Some(0), Some(2)]
         );
         // Total 2 + 1.5 + 3 = 6.5 beats 1 + 5 + 3 = 9.
         assert_eq!(
-            Association::OneToOne.assign(&r),
+            Assignment::OneToOne.assign(&r),
             vec![Some(1), Some(0), Some(2)]
         );
     }
@@ -208,7 +210,7 @@ mod tests {
         };
         for _ in 0..200 {
             let r: Vec<Vec<f64>> = (0..4).map(|_| (0..5).map(|_| rnd()).collect()).collect();
-            let a = Association::OneToOne.assign(&r);
+            let a = Assignment::OneToOne.assign(&r);
             let cost: f64 = a.iter().enumerate().map(|(i, j)| r[i][j.unwrap()]).sum();
             let mut best = f64::INFINITY;
             for a0 in 0..5 {
@@ -227,8 +229,8 @@ mod tests {
             assert!((cost - best).abs() < 1e-12);
         }
         // Fewer peaks than filters: as many as possible assigned.
-        let a = Association::OneToOne.assign(&[vec![1.0], vec![0.5]]);
+        let a = Assignment::OneToOne.assign(&[vec![1.0], vec![0.5]]);
         assert_eq!(a, vec![None, Some(0)]);
-        assert_eq!(Association::Nearest.assign(&[vec![]]), vec![None]);
+        assert_eq!(Assignment::Nearest.assign(&[vec![]]), vec![None]);
     }
 }
