@@ -464,7 +464,8 @@ def test_prf_edge_cases():
 
 
 def test_cli_names_match_the_modules():
-    from geofeas import _cli_demo, demo, scenario
+    from geofeas import demo, scenario
+    from geofeas.cli import demo as _cli_demo
 
     assert list(_cli_demo.SENSORS) == list(scenario.SENSORS)
     assert list(_cli_demo.SCORES) == list(demo.SCORES)

@@ -390,7 +390,7 @@ def test_process_noise_default_is_2_g_in_every_entry_point() -> None:
     import inspect
 
     from geofeas import _core
-    from geofeas._cli_mht import add_parser
+    from geofeas.cli.mht import add_parser
 
     two_g, four_g = 2.0 * 9.80665, 4.0 * 9.80665
     for f in (mht_track, mht_simulate_run, mht_study):

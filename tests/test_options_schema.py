@@ -10,9 +10,9 @@ from pathlib import Path
 
 import geofeas
 import geofeas.dask
-from geofeas import _cli_associate
 from geofeas._core import association_options
 from geofeas.association import ASSOCIATION_DEFAULTS, OPTIONS, _options_markdown
+from geofeas.cli import associate as _cli_associate
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "association.md"
 BEGIN, END = "<!-- options: begin -->\n", "<!-- options: end -->"

@@ -275,7 +275,7 @@ def test_ellipses_match_an_eigen_decomposition(rng):
 
 
 def test_review_demo_needs_the_demo_reports(tmp_path):
-    from geofeas._cli_review import review_demo
+    from geofeas.cli.review import review_demo
 
     with pytest.raises(geofeas.GeofeasError, match="reports.csv"):
         review_demo(tmp_path)

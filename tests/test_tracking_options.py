@@ -14,8 +14,10 @@ import numpy as np
 import pytest
 
 import geofeas
-from geofeas import _cli_mht, _cli_pf, _core
+from geofeas import _core
 from geofeas._core import GeofeasError
+from geofeas.cli import mht as _cli_mht
+from geofeas.cli import pf as _cli_pf
 from geofeas.tracking import _mht, _pf
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -18,9 +18,9 @@ from typing import Any
 
 import numpy as np
 
-from ._atomic import atomic_open
-from ._core import GeofeasError
-from .scores import (
+from .._atomic import atomic_open
+from .._core import GeofeasError
+from ..scores import (
     DEFAULT_VERTICES,
     SAMPLERS,
     bhattacharyya,
@@ -180,9 +180,7 @@ def add_parser(sub: Any) -> None:
         default=DEFAULT_VERTICES,
         help="polygon resolution (overlap_polygon, --method polygon)",
     )
-    p.add_argument(
-        "--sampler", choices=SAMPLERS, default="importance", help="Monte-Carlo sampler"
-    )
+    p.add_argument("--sampler", choices=SAMPLERS, default="importance", help="Monte-Carlo sampler")
     p.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per pair")
     p.add_argument("--seed", type=int, default=0, help="Monte-Carlo seed")
     p.set_defaults(func=run)

@@ -13,7 +13,7 @@ import argparse
 import getpass
 from pathlib import Path
 
-from ._core import GeofeasError
+from .._core import GeofeasError
 
 
 def _operator() -> str:
@@ -26,7 +26,7 @@ def _operator() -> str:
 def main(args: argparse.Namespace) -> int:
     db = Path(args.db)
     if args.export is not None:
-        from .review.log import DecisionLog
+        from ..review.log import DecisionLog
 
         if not db.is_file():
             raise GeofeasError(f"--db: {db}: no such decision log")
@@ -35,13 +35,12 @@ def main(args: argparse.Namespace) -> int:
         return 0
     if args.picture is None:
         raise GeofeasError(
-            "PICTURE: the reports file or saved association to review is required "
-            "(or use --export)"
+            "PICTURE: the reports file or saved association to review is required (or use --export)"
         )
     if not (0 <= args.port <= 65535):
         raise GeofeasError(f"--port: {args.port} is not a port number (0 takes a free port)")
     try:
-        from .review import serve
+        from ..review import serve
     except ImportError as exc:  # pragma: no cover - depends on the environment
         raise GeofeasError(
             f"review needs its extra: pip install 'geofeas[review]' ({exc})"
@@ -64,7 +63,7 @@ def review_demo(out: str | Path, *, host: str = "127.0.0.1", port: int = 0) -> N
     picture = folder / "reports.csv"
     if not picture.is_file():
         raise GeofeasError(f"--review: {picture}: the demo's reports are missing")
-    from .review import serve
+    from ..review import serve
 
     serve(picture, str(folder / "decisions.sqlite"), host=host, port=port, operator=_operator())
 

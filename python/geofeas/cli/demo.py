@@ -22,9 +22,9 @@ import argparse
 import sys
 from typing import Any
 
-from ._cli_associate import add_triage_arguments
-from ._core import GeofeasError
-from .association import COMBINE_RULES
+from .._core import GeofeasError
+from ..association import COMBINE_RULES
+from .associate import add_triage_arguments
 
 # the names only (the modules need pandas, imported when the command runs); tests check that
 # they match geofeas.scenario.SENSORS, geofeas.demo.SCORES and geofeas.demo.RECORDINGS
@@ -45,7 +45,7 @@ def _sensors(text: str) -> list[str]:
 
 def main(args: argparse.Namespace) -> int:
     try:
-        from .demo import fmt, run, write_outputs
+        from ..demo import fmt, run, write_outputs
     except ImportError as exc:
         raise GeofeasError(f"demo needs pandas: pip install 'geofeas[io]' ({exc})") from None
     options: dict[str, Any] = {"p_match": args.p_match, "p_reject": args.p_reject}
@@ -99,9 +99,7 @@ def main(args: argparse.Namespace) -> int:
     )
     print(f"  calibration of p_same: expected calibration error {summ['ece']:.4f}")
     if result.operator is not None:
-        steps = "  ".join(
-            f"{int(r.decisions)}: {fmt(r.f1)}" for r in result.operator.itertuples()
-        )
+        steps = "  ".join(f"{int(r.decisions)}: {fmt(r.f1)}" for r in result.operator.itertuples())
         print(f"  F1 after truthful decisions in review order: {steps}")
     if m.object_f1 == m.object_f1:
         print(
@@ -132,7 +130,7 @@ def main(args: argparse.Namespace) -> int:
     written = write_outputs(result, args.out, map_png=not args.no_map)
     print(f"\nwrote {', '.join(str(p) for p in written)}")
     if args.review:
-        from ._cli_review import review_demo
+        from .review import review_demo
 
         review_demo(args.out)
     return 0
@@ -174,9 +172,7 @@ def add_parser(sub: Any) -> None:
         help="also associate with this rule for the comparison table (repeatable)",
     )
     add_triage_arguments(p)
-    p.add_argument(
-        "--no-operator", action="store_true", help="do not simulate the operator"
-    )
+    p.add_argument("--no-operator", action="store_true", help="do not simulate the operator")
     p.add_argument("--no-map", action="store_true", help="do not draw map.png")
     p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     p.add_argument(

@@ -34,9 +34,9 @@ from typing import Any, Literal
 
 import numpy as np
 
-from ._atomic import save_figure, write_text
-from .tracking import PAPER_IC, PAPER_PCA, PF_CONFIGS, pf_simulate_run, pf_study, plot_pf_run
-from .tracking._pf import OPTIONS
+from .._atomic import save_figure, write_text
+from ..tracking import PAPER_IC, PAPER_PCA, PF_CONFIGS, pf_simulate_run, pf_study, plot_pf_run
+from ..tracking._pf import OPTIONS
 
 #: The study options as declared in the core: name -> (kind, default, doc, choices).
 _STUDY = {o[0]: o[1:] for o in OPTIONS["study"]}

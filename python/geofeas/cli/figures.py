@@ -20,9 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from ._atomic import atomic_open, save_figure
-from ._core import GeofeasError
-from .scores import gaussian_product, glr, intersection_area, monte_carlo, overlap
+from .._atomic import atomic_open, save_figure
+from .._core import GeofeasError
+from ..scores import gaussian_product, glr, intersection_area, monte_carlo, overlap
 
 #: Samples of each sampler in the accuracy figures: the paper's N = 500 for eq. 55 and for the
 #: uniform sampler, 64 quasi-random points for the Sobol sampler.

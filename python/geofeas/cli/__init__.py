@@ -1,5 +1,6 @@
-"""The ``geofeas`` command line. Each sub-command lives in its own ``_cli_<name>`` module that
-provides ``add_parser(subparsers)``; list it in :data:`SUBCOMMANDS` to enable it."""
+"""The ``geofeas`` command line. Each sub-command lives in its own module of this package
+(``geofeas.cli.<name>``) that provides ``add_parser(subparsers)``; list it in
+:data:`SUBCOMMANDS` to enable it."""
 
 from __future__ import annotations
 
@@ -9,18 +10,10 @@ import re
 import sys
 from collections.abc import Sequence
 
-from ._core import GeofeasError, __version__
+from .._core import GeofeasError, __version__
 
 #: Modules providing sub-commands, in the order ``--help`` lists them.
-SUBCOMMANDS = [
-    "_cli_score",
-    "_cli_demo",
-    "_cli_associate",
-    "_cli_mht",
-    "_cli_pf",
-    "_cli_figures",
-    "_cli_review",
-]
+SUBCOMMANDS = ["score", "demo", "associate", "mht", "pf", "figures", "review"]
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -31,7 +24,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"geofeas {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in SUBCOMMANDS:
-        importlib.import_module(f"geofeas.{name}").add_parser(sub)
+        importlib.import_module(f"geofeas.cli.{name}").add_parser(sub)
     for command in sub.choices.values():  # the modules' docstrings, as a terminal shows them
         if command.description:
             command.description = plain(command.description)
@@ -88,7 +81,3 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _one_line(exc: BaseException) -> str:
     text = " ".join(str(exc).split())
     return text or type(exc).__name__
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

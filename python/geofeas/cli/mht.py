@@ -18,8 +18,8 @@ import time
 from pathlib import Path
 from typing import Any
 
-from ._atomic import save_figure, write_text
-from .tracking import (
+from .._atomic import save_figure, write_text
+from ..tracking import (
     PAPER_TABLE_1,
     PAPER_TABLE_2,
     STUDY_COLUMNS,
@@ -28,7 +28,7 @@ from .tracking import (
     mht_study,
     plot_mht_run,
 )
-from .tracking._mht import OPTIONS
+from ..tracking._mht import OPTIONS
 
 
 def _fmt(v: Any) -> str:

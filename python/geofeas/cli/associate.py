@@ -20,7 +20,7 @@ import argparse
 import time
 from typing import Any
 
-from .association import (
+from ..association import (
     OPTIONS,
     associate,
     read_reports,

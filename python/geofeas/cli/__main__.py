@@ -1,0 +1,7 @@
+"""``python -m geofeas.cli``: the ``geofeas`` command."""
+
+import sys
+
+from . import main
+
+sys.exit(main())
