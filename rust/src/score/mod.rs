@@ -11,6 +11,7 @@
 //! its index, from which seeded scores derive their random stream, so results never depend on
 //! the number of threads.
 
+pub mod dd;
 pub mod exact;
 pub mod gaussian;
 pub mod glr;
