@@ -9,7 +9,7 @@ use pyo3::types::PyDict;
 
 use super::{check_signals, detached};
 use crate::error::{Error, Result};
-use crate::score::monte_carlo::stream;
+use crate::rng::stream;
 use crate::tracking::pf::{
     find_peaks, peak_label, study, Association, Bank, Cell, Frame, LikelihoodModel, Method, Ncv,
     Particles, PeakOptions, PfConfig, Psf, Resampling, RunSpec, Scenario, Step, StudyOptions,

@@ -7,7 +7,8 @@
 //! `1 / p(x)` (up to the constant that cancels in the ratio) is `1 / s` exactly, with no
 //! exponential. `x` lies in `S_min` exactly when `|z| <= 2`, i.e. `s >= e^-2`.
 //!
-//! Every pair draws from its own xoshiro256++ stream seeded from `(seed, pair index)`, so a seed
+//! Every pair draws from its own xoshiro256++ stream seeded from `(seed, pair index)`
+//! ([`crate::rng::stream`]), so a seed
 //! gives bit-identical results whatever the number of threads. With no sample inside `S_min`
 //! (probability `0.135^N`) the estimate is 0.
 //!
@@ -23,12 +24,10 @@
 //! indicator of a region with a smooth boundary its root-mean-square error falls like
 //! `N^(-3/4)` instead of `N^(-1/2)`, so 64 points match the accuracy of eq. 55 at N = 500.
 
-use rand::SeedableRng;
-use rand_xoshiro::Xoshiro256PlusPlus;
-
 use super::{Cancel, PairScore};
 use crate::ellipse::Ellipse;
 use crate::fastmath::ln_pos;
+use crate::rng::stream;
 
 /// How the sample points are drawn (see the module docs).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -88,20 +87,6 @@ impl Default for MonteCarlo {
             sampler: Sampler::Importance,
         }
     }
-}
-
-/// SplitMix64 finaliser: decorrelates `(seed, index)` into a stream seed.
-#[inline]
-pub fn mix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
-/// The random stream of pair `index` under `seed`.
-pub fn stream(seed: u64, index: u64) -> Xoshiro256PlusPlus {
-    Xoshiro256PlusPlus::seed_from_u64(mix64(seed ^ mix64(index)))
 }
 
 /// Candidate samples drawn and evaluated together.
