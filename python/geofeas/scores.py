@@ -132,7 +132,7 @@ def _options(score: str, options: dict[str, Any]) -> dict[str, Any]:
 def _pairs(a: ArrayLike, b: ArrayLike, score: str, options: dict[str, Any]) -> Any:
     ea, single_a = as_ellipses(a, "a")
     eb, single_b = as_ellipses(b, "b")
-    out = _core.score_pairs(ea, eb, score, **_options(score, options))
+    out = _core.score_pairs(ea, eb, score, _core.ScoreOptions(**_options(score, options)))
     if single_a and single_b:
         return float(out[0])
     return out
@@ -339,7 +339,7 @@ def cdist(
     if max_bytes is not None:
         limit = min(limit, _count(max_bytes, "max_bytes", 0, below=None))
     result: NDArray[np.float64] = _core.score_cdist(
-        ea, eb, score, max_bytes=limit, **_options(score, options)
+        ea, eb, score, _core.ScoreOptions(**_options(score, options)), max_bytes=limit
     )
     return result
 
