@@ -6,6 +6,9 @@ from __future__ import annotations
 
 import math
 import os
+import signal
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -158,6 +161,8 @@ E = [0.0, 0.0, 2.0, 1.0, 0.3]
         (lambda: geofeas.overlap(E, E, vertices=10**9), "vertices"),
         (lambda: geofeas.cdist([E], [E], score="overlap", vertices=10**9), "vertices"),
         (lambda: geofeas.monte_carlo(E, E, samples=10**10, seed=1), "samples"),
+        (lambda: geofeas.monte_carlo(E, E, samples=2**64, seed=1), "samples"),
+        (lambda: geofeas.monte_carlo(E, E, samples=2**32 + 1, sampler="sobol"), "samples"),
         (lambda: pf_peaks(np.zeros((8, 8)), smoothing=1e300), "smoothing"),
         (lambda: pf_peaks(np.zeros((8, 8)), count=10**9), "peaks"),
         (lambda: pf_render(np.zeros((1, 2)), width=2**40, height=2**40), None),
@@ -172,6 +177,52 @@ def test_no_panic_no_abort(call, argument):
         call()
     if argument is not None:
         assert info.value.argument == argument
+
+
+_ONE_LONG_PAIR = """
+import signal, sys
+# a runner may start us with SIGINT ignored (inherited); Python's handler must be in place
+signal.signal(signal.SIGINT, signal.default_int_handler)
+import geofeas
+a, b = [0.0, 0.0, 2.0, 1.0, 0.3], [0.5, 0.0, 2.0, 1.0, 0.0]
+print("ready", flush=True)
+try:
+    # one pair of 2**32 samples: minutes of work on one pool thread unless cancelled
+    geofeas.monte_carlo(a, b, samples=2**32, seed=1, sampler=sys.argv[1])
+except KeyboardInterrupt:
+    print("interrupted", flush=True)
+    sys.exit(0)
+print("finished", flush=True)
+sys.exit(3)
+"""
+
+
+@pytest.mark.parametrize("sampler", geofeas.scores.SAMPLERS)
+def test_ctrl_c_stops_one_long_monte_carlo_pair(sampler):
+    child = subprocess.Popen(
+        [sys.executable, "-c", _ONE_LONG_PAIR, sampler],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert child.stdout is not None
+        assert child.stdout.readline().strip() == "ready"
+        # let the call start (the child prints "ready" just before it)
+        try:
+            child.wait(timeout=1.0)
+        except subprocess.TimeoutExpired:
+            pass
+        child.send_signal(signal.SIGINT)
+        # a pair that ignored the interrupt would run for minutes: the bound only keeps a
+        # failing run from hanging the suite
+        out, err = child.communicate(timeout=60)
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.communicate()
+    assert out.strip() == "interrupted", (out, err)
+    assert child.returncode == 0
 
 
 def test_cdist_guard_cannot_be_raised_past_memory():

@@ -163,6 +163,33 @@ def test_overlap_measure_matches_reference_overlap(rng):
         assert OverlapMeasure(mapping=POS)(a, b) == pytest.approx(1 - want, abs=1e-4)
 
 
+def test_overlap_measure_is_exact_by_default(rng):
+    # against the 60-digit reference on the ellipses the measure sees: the polygon path (error
+    # about 1e-5 at 256 vertices) cannot pass this
+    exact_reference = pytest.importorskip("exact_reference")
+    for _ in range(10):
+        ca = cov_from_axes(*rng.uniform(20, 60, 2), rng.uniform(0, 3.1))
+        cb = cov_from_axes(*rng.uniform(20, 60, 2), rng.uniform(0, 3.1))
+        pa, pb = rng.normal(0, 40, 2), rng.normal(0, 40, 2)
+        a, b = cv_state(pa, [0, 0], ca, T0), cv_state(pb, [0, 0], cb, T0)
+        ea, eb = geofeas.from_gaussian(np.array([pa, pb]), np.array([ca, cb]))
+        want = float(exact_reference.overlap(ea, eb))
+        assert OverlapMeasure(mapping=POS)(a, b) == pytest.approx(1 - want, abs=1e-11)
+        assert OverlapMeasure(mapping=POS, method="exact")(a, b) == pytest.approx(
+            1 - want, abs=1e-11
+        )
+        # polygons only when asked, within their documented error
+        for m in (
+            OverlapMeasure(mapping=POS, vertices=64),
+            OverlapMeasure(mapping=POS, method="polygon"),
+        ):
+            assert m(a, b) == pytest.approx(1 - want, abs=1e-3)
+    with pytest.raises(geofeas.GeofeasError, match="vertices"):
+        OverlapMeasure(mapping=POS, method="exact", vertices=64)
+    with pytest.raises(geofeas.GeofeasError, match="method"):
+        OverlapMeasure(mapping=POS, method="quadrature")
+
+
 def test_thresholded_glr_is_exact_at_the_constraints():
     small = cv_state(np.array([0.0, 0.0]), [0, 0], cov_from_axes(10, 10, 0), T0)
     big = cv_state(np.array([5.0, 5.0]), [0, 0], cov_from_axes(100, 60, 0.4), T0)

@@ -9,7 +9,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use geofeas::score::monte_carlo::stream;
+use geofeas::rng::stream;
 use geofeas::tracking::mht::{Mht, MhtConfig, Scenario};
 
 fn bench_scenario(c: &mut Criterion) {

@@ -11,7 +11,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use geofeas::score::monte_carlo::stream;
+use geofeas::rng::stream;
 use geofeas::tracking::pf::{track_run, LikelihoodModel, Method, Particles, PfConfig, RunSpec};
 
 fn bench_scenario(c: &mut Criterion) {

@@ -41,6 +41,7 @@ __all__ = [
     "pf_track",
     "polygon_error_bound",
     "project_aeqd",
+    "ScoreOptions",
     "score_cdist",
     "score_pairs",
     "to_gaussian",
@@ -82,30 +83,32 @@ class GeofeasError(ValueError):
     row: int | None
     field: str | None
 
+@final
+class ScoreOptions:
+    def __new__(
+        cls,
+        *,
+        threshold: bool | None = None,
+        method: str | None = None,
+        vertices: int | None = None,
+        samples: int | None = None,
+        seed: int | None = None,
+        sampler: str | None = None,
+    ) -> ScoreOptions: ...
+
 def score_pairs(
     a: NDArray[np.float64],
     b: NDArray[np.float64],
     score: str,
-    *,
-    threshold: bool = False,
-    method: str = "exact",
-    vertices: int = 256,
-    samples: int = 500,
-    seed: int = 0,
-    sampler: str = "importance",
+    options: ScoreOptions | None = None,
 ) -> NDArray[np.float64]: ...
 def score_cdist(
     a: NDArray[np.float64],
     b: NDArray[np.float64],
     score: str,
+    options: ScoreOptions | None = None,
     *,
     max_bytes: int,
-    threshold: bool = False,
-    method: str = "exact",
-    vertices: int = 256,
-    samples: int = 500,
-    seed: int = 0,
-    sampler: str = "importance",
 ) -> NDArray[np.float64]: ...
 def intersection_area(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]: ...
 def to_gaussian(

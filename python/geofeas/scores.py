@@ -12,7 +12,8 @@ interrupted with Ctrl-C.
 computed to full accuracy (the exact overlap to ``1e-11``) without overflow or underflow;
 outside it a :class:`GeofeasError` names the argument (``a``, ``b``, ``e``), row and field
 (also as its ``argument``, ``row`` and ``field`` attributes). Options: ``vertices`` in
-``[8, 2**20]``, ``samples`` in ``[1, 10**7]``; an option the chosen score does not take is
+``[8, 2**20]``, ``samples`` in ``[1, 2**32]`` (the length of the Sobol sequence; one pair of
+``2**32`` samples runs for minutes and stops at Ctrl-C); an option the chosen score does not take is
 refused.
 """
 
@@ -26,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
-from ._arrays import as_ellipses, as_float_array
+from ._arrays import _error, as_ellipses, as_float_array
 from ._core import GeofeasError
 
 __all__ = [
@@ -75,11 +76,15 @@ def _seed(seed: int | None) -> int:
     return int(seed)
 
 
-def _count(value: Any, name: str, minimum: int) -> int:
+def _count(value: Any, name: str, minimum: int, below: int | None = 2**64) -> int:
+    """``value`` as an int in ``[minimum, below)``; the core then checks the option's own
+    range (``below`` only keeps the value convertible to a machine word)."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
-        raise GeofeasError(f"{name} must be an integer, got {value!r}")
+        raise _error(name, f"must be an integer, got {value!r}")
     if int(value) < minimum:
-        raise GeofeasError(f"{name} must be >= {minimum}, got {value}")
+        raise _error(name, f"must be >= {minimum}, got {value}")
+    if below is not None and int(value) >= below:
+        raise _error(name, f"must be < {below}, got {value}")
     return int(value)
 
 
@@ -127,7 +132,7 @@ def _options(score: str, options: dict[str, Any]) -> dict[str, Any]:
 def _pairs(a: ArrayLike, b: ArrayLike, score: str, options: dict[str, Any]) -> Any:
     ea, single_a = as_ellipses(a, "a")
     eb, single_b = as_ellipses(b, "b")
-    out = _core.score_pairs(ea, eb, score, **_options(score, options))
+    out = _core.score_pairs(ea, eb, score, _core.ScoreOptions(**_options(score, options)))
     if single_a and single_b:
         return float(out[0])
     return out
@@ -228,9 +233,7 @@ def monte_carlo(
     -------
     float or ndarray of shape (n,)
     """
-    return _pairs(
-        a, b, "monte_carlo", {"samples": samples, "seed": seed, "sampler": sampler}
-    )
+    return _pairs(a, b, "monte_carlo", {"samples": samples, "seed": seed, "sampler": sampler})
 
 
 def bhattacharyya(a: ArrayLike, b: ArrayLike, /) -> Any:
@@ -334,9 +337,9 @@ def cdist(
     # a caller's limit can lower the guard, never raise it past the memory this process has
     limit = _memory_limit()
     if max_bytes is not None:
-        limit = min(limit, _count(max_bytes, "max_bytes", 0))
+        limit = min(limit, _count(max_bytes, "max_bytes", 0, below=None))
     result: NDArray[np.float64] = _core.score_cdist(
-        ea, eb, score, max_bytes=limit, **_options(score, options)
+        ea, eb, score, _core.ScoreOptions(**_options(score, options)), max_bytes=limit
     )
     return result
 

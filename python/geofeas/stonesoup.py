@@ -55,7 +55,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._core import GeofeasError
-from .scores import DEFAULT_VERTICES, from_gaussian, glr, overlap, to_gaussian
+from .scores import _options, from_gaussian, glr, overlap, to_gaussian
 
 try:
     import pandas as pd  # type: ignore[import-untyped,unused-ignore]
@@ -322,14 +322,30 @@ class ThresholdedGLRMeasure(GeofeasMeasure):
 
 
 class OverlapMeasure(GeofeasMeasure):
-    """Normalised overlap area of the 2-sigma AOU ellipses (seed 000, eqs. 49-50)."""
+    """Normalised overlap area of the 2-sigma AOU ellipses (seed 000, eqs. 49-50).
 
-    vertices: int = Property(
-        default=DEFAULT_VERTICES, doc="Polygon resolution of geofeas.overlap (>= 8)."
+    Exact by default (``geofeas.overlap``'s analytic method, accurate to 1e-11); on equal-area
+    polygons only when asked, by ``method="polygon"`` or a ``vertices`` resolution, with the
+    same rules as :func:`geofeas.overlap`.
+    """
+
+    method: str | None = Property(
+        default=None,
+        doc="'exact' (the default) or 'polygon' (geofeas.overlap's method).",
+    )
+    vertices: int | None = Property(
+        default=None,
+        doc="Polygon resolution (>= 8) of method='polygon'; giving it alone selects the "
+        "polygon method (default: the exact overlap).",
     )
 
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        # refuse a bad combination now, not at the first pair
+        _options("overlap", {"method": self.method, "vertices": self.vertices})
+
     def score(self, a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-        out: NDArray[np.float64] = overlap(a, b, vertices=self.vertices)
+        out: NDArray[np.float64] = overlap(a, b, method=self.method, vertices=self.vertices)
         return out
 
 

@@ -12,6 +12,7 @@
 //!   and [`score::exact::intersection_area`].
 //! - [`score::GaussianScore`]: Bhattacharyya, Hellinger and the normalised Gaussian product.
 //! - [`score::score_pairs`] / [`score::score_cdist`]: the parallel batch drivers shared by all.
+//! - [`rng`]: the seeded per-item random streams every randomised computation draws from.
 //! - [`association`]: track-to-track association at scale: reports, time alignment, the
 //!   calibrated combination of per-instant scores, a space-time candidate index and grouping.
 //! - [`tracking::mht`]: multiple-hypothesis trilateration and tracking with distributed radars
@@ -34,6 +35,7 @@ pub mod ellipse;
 pub mod error;
 pub mod fastmath;
 pub mod relation;
+pub mod rng;
 pub mod score;
 pub mod tracking;
 

@@ -886,9 +886,8 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
     let per_chain: Vec<Vec<Vec<u32>>> = (0..inf.chains)
         .into_par_iter()
         .map(|c| {
-            let mut rng = Xoshiro256PlusPlus::seed_from_u64(crate::score::monte_carlo::mix64(
-                inf.seed
-                    ^ crate::score::monte_carlo::mix64(first.wrapping_mul(0x1_0000) ^ c as u64),
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(crate::rng::mix64(
+                inf.seed ^ crate::rng::mix64(first.wrapping_mul(0x1_0000) ^ c as u64),
             ));
             // parallel tempering: the chain at beta = 1 is the sample; hotter copies cross
             // the barriers that single-block moves cannot, and swap states with it

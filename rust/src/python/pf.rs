@@ -10,7 +10,7 @@ use pyo3::types::PyDict;
 use super::options::{read_one, read_two, schema_py};
 use super::{check_signals, detached};
 use crate::error::{Error, Result};
-use crate::score::monte_carlo::stream;
+use crate::rng::stream;
 use crate::tracking::pf::{
     find_peaks, peak_label, study, track_frames, track_truth, Bank, Cell, Frame, LikelihoodModel,
     Method, Particles, PeakOptions, PfOptions, PfRunOptions, PfStudyOptions, PfTrackOptions, Psf,

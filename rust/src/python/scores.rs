@@ -15,51 +15,67 @@ fn ellipses<'a>(what: &'static str, arr: &'a PyReadonlyArray2<'_, f64>) -> PyRes
     Ok(Ellipse::from_flat(super::flat5(what, arr)?)?)
 }
 
-fn options(
-    threshold: bool,
-    method: String,
-    vertices: usize,
-    samples: usize,
-    seed: u64,
-    sampler: String,
-) -> Options {
-    Options {
-        threshold,
-        method,
-        vertices,
-        samples,
-        seed,
-        sampler,
+/// The options of every score (the core's `Options`), given by keyword; an option left out
+/// takes the core's default. Each score reads the options it uses.
+#[pyclass(name = "ScoreOptions", module = "geofeas._core", frozen)]
+pub struct ScoreOptions(Options);
+
+#[pymethods]
+impl ScoreOptions {
+    #[new]
+    #[pyo3(signature = (*, threshold=None, method=None, vertices=None, samples=None, seed=None, sampler=None))]
+    fn new(
+        threshold: Option<bool>,
+        method: Option<String>,
+        vertices: Option<usize>,
+        samples: Option<usize>,
+        seed: Option<u64>,
+        sampler: Option<String>,
+    ) -> Self {
+        let d = Options::default();
+        Self(Options {
+            threshold: threshold.unwrap_or(d.threshold),
+            method: method.unwrap_or(d.method),
+            vertices: vertices.unwrap_or(d.vertices),
+            samples: samples.unwrap_or(d.samples),
+            seed: seed.unwrap_or(d.seed),
+            sampler: sampler.unwrap_or(d.sampler),
+        })
     }
+
+    fn __repr__(&self) -> String {
+        let o = &self.0;
+        format!(
+            "ScoreOptions(threshold={}, method={:?}, vertices={}, samples={}, seed={}, sampler={:?})",
+            if o.threshold { "True" } else { "False" },
+            o.method,
+            o.vertices,
+            o.samples,
+            o.seed,
+            o.sampler
+        )
+    }
+}
+
+/// The score called `score` with `options` (the defaults when `None`).
+fn spec(score: &str, options: Option<PyRef<'_, ScoreOptions>>) -> PyResult<Score> {
+    Ok(match options {
+        Some(o) => Score::from_name(score, &o.0)?,
+        None => Score::from_name(score, &Options::default())?,
+    })
 }
 
 /// Elementwise scores of `a[k]` and `b[k]` (a length-1 side broadcasts).
 #[pyfunction]
-#[pyo3(signature = (a, b, score, *, threshold=false, method="exact", vertices=256, samples=500, seed=0, sampler="importance"))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (a, b, score, options=None))]
 fn score_pairs<'py>(
     py: Python<'py>,
     a: PyReadonlyArray2<'py, f64>,
     b: PyReadonlyArray2<'py, f64>,
     score: &str,
-    threshold: bool,
-    method: &str,
-    vertices: usize,
-    samples: usize,
-    seed: u64,
-    sampler: &str,
+    options: Option<PyRef<'py, ScoreOptions>>,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-    let spec = Score::from_name(
-        score,
-        &options(
-            threshold,
-            method.to_string(),
-            vertices,
-            samples,
-            seed,
-            sampler.to_string(),
-        ),
-    )?;
+    let spec = spec(score, options)?;
     let (ea, eb) = (ellipses("a", &a)?, ellipses("b", &b)?);
     let n = broadcast_len(ea.len(), eb.len())?;
     let out = detached(py, || {
@@ -72,32 +88,16 @@ fn score_pairs<'py>(
 
 /// All-pairs scores, `(n, 5) x (m, 5) -> (n, m)`, refused above `max_bytes` of output.
 #[pyfunction]
-#[pyo3(signature = (a, b, score, *, max_bytes, threshold=false, method="exact", vertices=256, samples=500, seed=0, sampler="importance"))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (a, b, score, options=None, *, max_bytes))]
 fn score_cdist<'py>(
     py: Python<'py>,
     a: PyReadonlyArray2<'py, f64>,
     b: PyReadonlyArray2<'py, f64>,
     score: &str,
+    options: Option<PyRef<'py, ScoreOptions>>,
     max_bytes: u128,
-    threshold: bool,
-    method: &str,
-    vertices: usize,
-    samples: usize,
-    seed: u64,
-    sampler: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let spec = Score::from_name(
-        score,
-        &options(
-            threshold,
-            method.to_string(),
-            vertices,
-            samples,
-            seed,
-            sampler.to_string(),
-        ),
-    )?;
+    let spec = spec(score, options)?;
     let (ea, eb) = (ellipses("a", &a)?, ellipses("b", &b)?);
     let (n, m) = (ea.len(), eb.len());
     check_cdist_size(n, m, max_bytes)?;
@@ -237,6 +237,7 @@ fn intersection_area<'py>(
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<ScoreOptions>()?;
     m.add_function(wrap_pyfunction!(intersection_area, m)?)?;
     m.add_function(wrap_pyfunction!(score_pairs, m)?)?;
     m.add_function(wrap_pyfunction!(score_cdist, m)?)?;

@@ -19,7 +19,12 @@
 //! root, and a cell whose end slopes share a sign with `|g'0| + |g'1| > M2 h` is monotone and has
 //! at most one. Every other cell is halved (down to a width of about `1e-8`, where any lens left
 //! unresolved has an area below `1e-21` of the ellipses). A monotone cell with a sign change
-//! holds exactly one crossing, found by Newton's method safeguarded by the bracket. Only sign
+//! holds exactly one crossing, found by Newton's method safeguarded by the bracket. Where the
+//! crossing is ill-conditioned (`A` meets `B` at so shallow an angle that the rounding of `g`
+//! leaves its position uncertain by more than `1e-13`; then a one-ulp change of any input moves
+//! the area by up to `1e-10`), it is polished by Newton steps on `g` evaluated in double-double
+//! arithmetic (see [`super::dd`]) from the input fields themselves: the frames, `sin`/`cos` of
+//! both angles and of the crossing parameter, and the centre offset taken exactly. Only sign
 //! changes are kept, so a tangency (a double root without sign change) is never a crossing, and
 //! a tangency next to two crossings (three roots) is resolved by the subdivision. The side of
 //! every arc of `A` (inside or outside `B`) is the sign of `g` on its cell, so arcs alternate by
@@ -36,6 +41,7 @@
 
 use std::f64::consts::{PI, TAU};
 
+use super::dd::{self, Dd};
 use super::PairScore;
 use crate::ellipse::Ellipse;
 use crate::fastmath::{sin_cos, SIN_COS_LIMIT};
@@ -86,6 +92,9 @@ const MAX_DEPTH: usize = 26;
 /// Cells examined per pair before the subdivision stops refining (a guard; never reached on
 /// real data).
 const BUDGET: usize = 4096;
+/// Largest uncertainty of a crossing parameter (the rounding bound of `g` over `|g'|`) left
+/// unpolished; beyond it the crossing is refined in double-double.
+const POLISH: f64 = 1e-13;
 /// Crossings kept per pair (two conics cross at most four times; rounding at tangencies can add
 /// spurious pairs of nearly equal roots, which this leaves room for).
 const MAX_ROOTS: usize = 16;
@@ -223,9 +232,42 @@ impl Boundary {
     }
 }
 
+/// The boundary function in double-double, built from the unscaled input fields of the
+/// canonical pair (`A` the smaller): `z(t) = w + P cos t + Q sin t` in `B`'s normalised frame.
+struct DdBoundary {
+    w: [Dd; 2],
+    p: [Dd; 2],
+    q: [Dd; 2],
+}
+
+impl DdBoundary {
+    /// `None` when an angle is beyond [`dd::SIN_COS_LIMIT`].
+    fn new(a: &Ellipse, b: &Ellipse) -> Option<Self> {
+        let (sa, ca) = dd::sin_cos(a.phi)?;
+        let (sb, cb) = dd::sin_cos(b.phi)?;
+        let to_b = |dx: Dd, dy: Dd| [(dx * sb + dy * cb) / b.rx, (dx * cb - dy * sb) / b.ry];
+        Some(Self {
+            w: to_b(Dd::diff(a.x0, b.x0), Dd::diff(a.y0, b.y0)),
+            p: to_b(sa * a.rx, ca * a.rx),
+            q: to_b(ca * a.ry, -(sa * a.ry)),
+        })
+    }
+
+    /// `g = |z|^2 - 1` at `(cos t, sin t)`, rounded to a double at the end.
+    fn g(&self, c: Dd, s: Dd) -> f64 {
+        let z = |i: usize| self.w[i] + self.p[i] * c + self.q[i] * s;
+        let (z0, z1) = (z(0), z(1));
+        (z0 * z0 + z1 * z1 - Dd::new(1.0)).hi
+    }
+}
+
 /// Collects the sign changes of `g` over a full turn.
 struct Finder<'a> {
     f: &'a Boundary,
+    /// The canonical pair as given (unscaled), for [`DdBoundary`].
+    raw: (&'a Ellipse, &'a Ellipse),
+    /// Its double-double boundary once a crossing needed it (`Some(None)`: not available).
+    dd: Option<Option<DdBoundary>>,
     roots: [Root; MAX_ROOTS],
     n: usize,
     cells: usize,
@@ -300,6 +342,7 @@ impl Finder<'_> {
                 }
             }
         }
+        let t = self.polish(t, s0.t, s1.t);
         if self.n > 0 && self.quiet(self.roots[self.n - 1].t, t) {
             // this crossing and the previous one enclose an arc that never leaves the rounding
             // band of g: a tangency split by rounding into spurious crossings, not a lens
@@ -318,6 +361,39 @@ impl Finder<'_> {
         } else {
             self.overflow = true;
         }
+    }
+
+    /// The crossing near `t` (in the cell `[lo, hi]`) refined in double-double when its
+    /// position is uncertain by more than [`POLISH`]; otherwise `t` itself.
+    fn polish(&mut self, t: f64, lo: f64, hi: f64) -> f64 {
+        let f = self.f;
+        let (s, c) = sin_cos(t);
+        let (_, d, eg, _) = f.eval_bounded(c, s);
+        if eg <= POLISH * d.abs() {
+            return t;
+        }
+        let (a, b) = self.raw;
+        let Some(geometry) = self.dd.get_or_insert_with(|| DdBoundary::new(a, b)) else {
+            return t;
+        };
+        let mut t = t;
+        for _ in 0..4 {
+            let Some((sd, cd)) = dd::sin_cos(t) else {
+                break;
+            };
+            let g = geometry.g(cd, sd);
+            // g' in doubles: the step is small, its relative accuracy is enough
+            let (_, d) = f.eval(cd.hi, sd.hi);
+            if g == 0.0 || d == 0.0 || !(g / d).is_finite() {
+                break;
+            }
+            let next = (t - g / d).clamp(lo, hi);
+            if next == t {
+                break;
+            }
+            t = next;
+        }
+        t
     }
 
     /// Whether `g` stays within a few times its rounding bound on `[t0, t1]`: five samples, and
@@ -390,7 +466,7 @@ fn canonical<'a>(p: &'a Frame, q: &'a Frame) -> (&'a Frame, &'a Frame) {
 /// scale: lengths are multiplied by `scale`. Scaling keeps every intermediate in range for
 /// semi-axes anywhere in the doubles.
 #[inline]
-fn scaled(p: &Frame, q: &Frame) -> (Frame, Frame, f64) {
+fn scaled<'a>(p: &'a Frame, q: &'a Frame) -> (Frame, Frame, f64, (&'a Ellipse, &'a Ellipse)) {
     let (a, b) = canonical(p, q);
     let scale = 1.0 / (a.e.rx.sqrt() * a.e.ry.sqrt());
     let (dx, dy) = ((b.e.x0 - a.e.x0) * scale, (b.e.y0 - a.e.y0) * scale);
@@ -403,24 +479,25 @@ fn scaled(p: &Frame, q: &Frame) -> (Frame, Frame, f64) {
         ..*b
     };
     let same = a.e == b.e;
-    (fa, if same { fa } else { fb }, scale)
+    (fa, if same { fa } else { fb }, scale, (&a.e, &b.e))
 }
 
 /// The area of the intersection of two prepared (valid) ellipses (`inf` when it exceeds the
 /// doubles).
 pub fn intersection_area_frames(p: &Frame, q: &Frame) -> f64 {
-    let (a, b, scale) = scaled(p, q);
-    area_scaled(&a, &b) / scale / scale
+    let (a, b, scale, raw) = scaled(p, q);
+    area_scaled(&a, &b, raw) / scale / scale
 }
 
 /// The normalised overlap `g` of two prepared (valid) ellipses.
 pub fn overlap_frames(p: &Frame, q: &Frame) -> f64 {
-    let (a, b, _) = scaled(p, q);
-    (area_scaled(&a, &b) / (PI * a.ab())).clamp(0.0, 1.0)
+    let (a, b, _, raw) = scaled(p, q);
+    (area_scaled(&a, &b, raw) / (PI * a.ab())).clamp(0.0, 1.0)
 }
 
-/// The intersection area of a canonical, scaled pair (`a` the smaller).
-fn area_scaled(a: &Frame, b: &Frame) -> f64 {
+/// The intersection area of a canonical, scaled pair (`a` the smaller); `raw` is the pair as
+/// given.
+fn area_scaled(a: &Frame, b: &Frame, raw: (&Ellipse, &Ellipse)) -> f64 {
     let area_a = PI * a.ab();
     let (dx, dy) = (a.e.x0 - b.e.x0, a.e.y0 - b.e.y0);
     let d2 = dx * dx + dy * dy;
@@ -475,6 +552,8 @@ fn area_scaled(a: &Frame, b: &Frame) -> f64 {
     }
     let mut finder = Finder {
         f: &f,
+        raw,
+        dd: None,
         roots: [Root::default(); MAX_ROOTS],
         n: 0,
         cells: 0,
@@ -637,6 +716,55 @@ mod tests {
                 "{p:?} {q:?}: {area:.17} vs {truth:.17} (dg {:e})",
                 (area - truth) / small
             );
+        }
+    }
+
+    #[test]
+    fn shallow_crossings_match_the_60_digit_reference() {
+        // a thin ellipse crossing a larger one at a very shallow angle (|g'| about 1e-5 at the
+        // crossings): a one-ulp change of any field moves g by up to 1e-10, so the crossings
+        // are polished in double-double; g from tests/exact_reference.py (mpmath, 60 digits)
+        let cases = [
+            (
+                Ellipse::new(
+                    2.4445362158345643,
+                    -6.838384499123773,
+                    0.02344338863362363,
+                    1.930177086930869e-5,
+                    -0.38631939816910593,
+                ),
+                Ellipse::new(
+                    0.0,
+                    0.0,
+                    7.611223842986369,
+                    0.09354348924548375,
+                    2.794422513907926,
+                ),
+                0.954_629_216_201_251_783_46,
+            ),
+            (
+                Ellipse::new(
+                    12.190369172649886,
+                    -8.471524944210286,
+                    0.0720433878694075,
+                    1.6312592174523283e-5,
+                    -1.2291512879642885,
+                ),
+                Ellipse::new(
+                    0.0,
+                    0.0,
+                    30.231512331752178,
+                    3.4240014352315886,
+                    1.974482218256914,
+                ),
+                0.949_827_819_242_009_260_97,
+            ),
+        ];
+        for (a, b, truth) in cases {
+            for (p, q) in [(a, b), (b, a)] {
+                let g = overlap_exact(&p, &q);
+                assert!((g - truth).abs() <= 1e-11, "{g} vs {truth}");
+            }
         }
     }
 

@@ -15,7 +15,7 @@
 //! all its digits. The batch kernels are branch-free (see [`crate::fastmath`]) so that they
 //! vectorise, with an AVX2 version selected at run time on x86-64.
 
-use super::PairScore;
+use super::{Cancel, PairScore};
 use crate::ellipse::{Ellipse, Gaussian};
 use crate::fastmath::{exp_neg, sin_cos, SIN_COS_LIMIT};
 use crate::relation::{relation, Relation};
@@ -282,7 +282,14 @@ impl PairScore for Glr {
         }
     }
 
-    fn score_block(&self, a: &[Ellipse], b: &[Ellipse], _start: usize, out: &mut [f64]) {
+    fn score_block(
+        &self,
+        a: &[Ellipse],
+        b: &[Ellipse],
+        _start: usize,
+        out: &mut [f64],
+        _cancel: &Cancel,
+    ) {
         let fast = a.iter().chain(b).all(|e| e.phi.abs() <= SIN_COS_LIMIT);
         if !fast {
             let (ia, ib) = (a.len() > 1, b.len() > 1);
@@ -306,7 +313,14 @@ impl PairScore for Glr {
         }
     }
 
-    fn score_row(&self, a: &Self::Prepared, b: &[Self::Prepared], start: usize, out: &mut [f64]) {
+    fn score_row(
+        &self,
+        a: &Self::Prepared,
+        b: &[Self::Prepared],
+        start: usize,
+        out: &mut [f64],
+        _cancel: &Cancel,
+    ) {
         if self.threshold {
             for (k, (o, pb)) in out.iter_mut().zip(b).enumerate() {
                 *o = self.score(a, pb, (start + k) as u64);
@@ -386,10 +400,10 @@ mod tests {
             .collect();
         let s = Glr::default();
         let mut out = vec![0.0; es.len()];
-        s.score_block(&es, &es[..1], 0, &mut out);
+        s.score_block(&es, &es[..1], 0, &mut out, Cancel::never());
         let prepared: Vec<_> = es.iter().map(|e| s.prepare(e)).collect();
         let mut row = vec![0.0; es.len()];
-        s.score_row(&prepared[0], &prepared, 0, &mut row);
+        s.score_row(&prepared[0], &prepared, 0, &mut row, Cancel::never());
         for k in 0..es.len() {
             let direct = s.score_one(&es[k], &es[0]);
             assert_eq!(out[k], direct);

@@ -5,16 +5,23 @@
 //! [`score_pairs`] (elementwise, with length-1 broadcasting) and [`score_cdist`] (all pairs
 //! between two sets, like `scipy.spatial.distance.cdist`) are written once, run on rayon in
 //! chunks, and call an interrupt hook between chunks so long calls can be cancelled (Ctrl-C in
-//! Python). Pair `k` of a batch (row-major `i * m + j` for all-pairs) is passed to the score as
+//! Python). While a chunk runs on the pool the calling thread keeps polling the hook; when it
+//! fires the driver raises a [`Cancel`] flag that the pair loops check, so even one long pair
+//! (a Monte-Carlo pair with billions of samples) stops promptly. Pair `k` of a batch (row-major `i * m + j` for all-pairs) is passed to the score as
 //! its index, from which seeded scores derive their random stream, so results never depend on
 //! the number of threads.
 
+pub mod dd;
 pub mod exact;
 pub mod gaussian;
 pub mod glr;
 pub mod monte_carlo;
 pub mod polygon;
 pub mod spec;
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Condvar, Mutex};
+use std::time::Duration;
 
 use rayon::prelude::*;
 
@@ -36,6 +43,24 @@ pub trait PairScore: Sync {
     fn prepare(&self, e: &Ellipse) -> Self::Prepared;
     /// The score of a prepared pair; `index` is the pair's position in its batch.
     fn score(&self, a: &Self::Prepared, b: &Self::Prepared, index: u64) -> f64;
+    /// [`PairScore::score`] for a driver that may cancel the call: a score whose one pair can
+    /// run long checks `cancel` inside its loop and returns early (any value: the driver then
+    /// discards the whole output and reports [`Error::Interrupted`]).
+    fn score_cancellable(
+        &self,
+        a: &Self::Prepared,
+        b: &Self::Prepared,
+        index: u64,
+        cancel: &Cancel,
+    ) -> f64 {
+        let _ = cancel;
+        self.score(a, b, index)
+    }
+    /// Whether one pair may run long (beyond about ten milliseconds): the driver then always
+    /// runs the pairs on the pool and polls the interrupt hook from the calling thread.
+    fn long_pairs(&self) -> bool {
+        false
+    }
     /// How many pairs a chunk between two interrupt checks holds (cheap scores: more).
     fn chunk_pairs(&self) -> usize {
         1 << 16
@@ -45,19 +70,42 @@ pub trait PairScore: Sync {
         self.score(&self.prepare(a), &self.prepare(b), 0)
     }
     /// Elementwise block: `out[k] = score(a[k], b[k])` for pairs `start + k`, where a side of
-    /// length 1 broadcasts. Scores with a vectorised kernel override this.
-    fn score_block(&self, a: &[Ellipse], b: &[Ellipse], start: usize, out: &mut [f64]) {
+    /// length 1 broadcasts; stops early once `cancel` is raised. Scores with a vectorised
+    /// kernel override this.
+    fn score_block(
+        &self,
+        a: &[Ellipse],
+        b: &[Ellipse],
+        start: usize,
+        out: &mut [f64],
+        cancel: &Cancel,
+    ) {
         let (ia, ib) = (a.len() > 1, b.len() > 1);
         for (k, slot) in out.iter_mut().enumerate() {
+            if cancel.is_raised() {
+                return;
+            }
             let ea = &a[if ia { k } else { 0 }];
             let eb = &b[if ib { k } else { 0 }];
-            *slot = self.score(&self.prepare(ea), &self.prepare(eb), (start + k) as u64);
+            let (pa, pb) = (self.prepare(ea), self.prepare(eb));
+            *slot = self.score_cancellable(&pa, &pb, (start + k) as u64, cancel);
         }
     }
-    /// One row segment of an all-pairs batch: `out[k] = score(a, b[k])` for pairs `start + k`.
-    fn score_row(&self, a: &Self::Prepared, b: &[Self::Prepared], start: usize, out: &mut [f64]) {
+    /// One row segment of an all-pairs batch: `out[k] = score(a, b[k])` for pairs `start + k`;
+    /// stops early once `cancel` is raised.
+    fn score_row(
+        &self,
+        a: &Self::Prepared,
+        b: &[Self::Prepared],
+        start: usize,
+        out: &mut [f64],
+        cancel: &Cancel,
+    ) {
         for (k, (slot, pb)) in out.iter_mut().zip(b).enumerate() {
-            *slot = self.score(a, pb, (start + k) as u64);
+            if cancel.is_raised() {
+                return;
+            }
+            *slot = self.score_cancellable(a, pb, (start + k) as u64, cancel);
         }
     }
 }
@@ -65,6 +113,31 @@ pub trait PairScore: Sync {
 /// A hook called between chunks of a long computation; returning `true` stops it with
 /// [`Error::Interrupted`].
 pub type Interrupt<'a> = &'a mut dyn FnMut() -> bool;
+
+/// The cancellation flag of one driver call: raised by the calling thread when its interrupt
+/// hook fires, read by the pair loops on the pool (a relaxed load, cheap enough to check every
+/// few thousand samples).
+#[derive(Debug, Default)]
+pub struct Cancel(AtomicBool);
+
+impl Cancel {
+    /// A flag that is never raised, for scoring outside a driver.
+    pub fn never() -> &'static Cancel {
+        static NEVER: Cancel = Cancel(AtomicBool::new(false));
+        &NEVER
+    }
+
+    /// Raises the flag.
+    pub fn raise(&self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether the flag is raised.
+    #[inline]
+    pub fn is_raised(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
 
 /// Validates every ellipse of a batch, reporting the first bad row.
 pub fn validate(ellipses: &[Ellipse]) -> Result<()> {
@@ -99,12 +172,19 @@ pub fn score_pairs<S: PairScore>(
     validate(a).map_err(|e| e.in_argument("a"))?;
     validate(b).map_err(|e| e.in_argument("b"))?;
     let (ia, ib) = (a.len() > 1, b.len() > 1);
-    run_chunked(out, score.chunk_pairs(), interrupt, |start, block| {
-        let end = start + block.len();
-        let sa = if ia { &a[start..end] } else { a };
-        let sb = if ib { &b[start..end] } else { b };
-        score.score_block(sa, sb, start, block);
-    })
+    let chunk = score.chunk_pairs();
+    run_chunked(
+        out,
+        chunk,
+        score.long_pairs(),
+        interrupt,
+        |start, block, cancel| {
+            let end = start + block.len();
+            let sa = if ia { &a[start..end] } else { a };
+            let sb = if ib { &b[start..end] } else { b };
+            score.score_block(sa, sb, start, block, cancel);
+        },
+    )
 }
 
 /// All-pairs scores: `out[i * m + j] = score(a[i], b[j])` for `n = a.len()`, `m = b.len()`.
@@ -124,19 +204,26 @@ pub fn score_cdist<S: PairScore>(
     }
     let pa: Vec<S::Prepared> = a.par_iter().map(|e| score.prepare(e)).collect();
     let pb: Vec<S::Prepared> = b.par_iter().map(|e| score.prepare(e)).collect();
-    run_chunked(out, score.chunk_pairs(), interrupt, |start, block| {
-        // split the block at row boundaries
-        let mut k = start;
-        let mut rest = block;
-        while !rest.is_empty() {
-            let (i, j) = (k / m, k % m);
-            let len = (m - j).min(rest.len());
-            let (row, tail) = rest.split_at_mut(len);
-            score.score_row(&pa[i], &pb[j..j + len], k, row);
-            k += len;
-            rest = tail;
-        }
-    })
+    let chunk = score.chunk_pairs();
+    run_chunked(
+        out,
+        chunk,
+        score.long_pairs(),
+        interrupt,
+        |start, block, cancel| {
+            // split the block at row boundaries
+            let mut k = start;
+            let mut rest = block;
+            while !rest.is_empty() {
+                let (i, j) = (k / m, k % m);
+                let len = (m - j).min(rest.len());
+                let (row, tail) = rest.split_at_mut(len);
+                score.score_row(&pa[i], &pb[j..j + len], k, row, cancel);
+                k += len;
+                rest = tail;
+            }
+        },
+    )
 }
 
 /// Refuses an all-pairs output of `rows x cols` f64 values larger than `limit` bytes.
@@ -164,25 +251,85 @@ fn check_out(got: usize, want: usize) -> Result<()> {
     Ok(())
 }
 
-/// Fills `out` in parallel, chunk by chunk, calling `interrupt` between chunks; `body(start,
-/// block)` fills the sub-slice of `out` that begins at pair `start`.
-fn run_chunked<F>(out: &mut [f64], chunk: usize, interrupt: Interrupt<'_>, body: F) -> Result<()>
+/// How often the calling thread polls the interrupt hook while a chunk runs on the pool.
+const POLL: Duration = Duration::from_millis(20);
+
+/// Fills `out` in parallel, chunk by chunk; `body(start, block, cancel)` fills the sub-slice of
+/// `out` that begins at pair `start`. The interrupt hook is called before every chunk and, while
+/// a chunk runs on the pool (always when `long_pairs`, otherwise when the chunk is split across
+/// threads), every [`POLL`] from the calling thread; once it fires the chunk is cancelled and the
+/// call returns [`Error::Interrupted`].
+fn run_chunked<F>(
+    out: &mut [f64],
+    chunk: usize,
+    long_pairs: bool,
+    interrupt: Interrupt<'_>,
+    body: F,
+) -> Result<()>
 where
-    F: Fn(usize, &mut [f64]) + Sync,
+    F: Fn(usize, &mut [f64], &Cancel) + Sync,
 {
     let chunk = chunk.max(1);
     let grain = (chunk / (4 * rayon::current_num_threads())).max(64);
+    // a pool thread cannot wait for the pool (with one thread it would wait for itself)
+    let may_watch = rayon::current_thread_index().is_none();
+    let cancel = Cancel::default();
     for (c, block) in out.chunks_mut(chunk).enumerate() {
         if interrupt() {
             return Err(Error::Interrupted);
         }
         let base = c * chunk;
-        block
-            .par_chunks_mut(grain)
-            .enumerate()
-            .for_each(|(g, part)| body(base + g * grain, part));
+        let watch = may_watch && (long_pairs || block.len() > grain);
+        let work = |block: &mut [f64]| {
+            block
+                .par_chunks_mut(grain)
+                .enumerate()
+                .for_each(|(g, part)| body(base + g * grain, part, &cancel));
+        };
+        if watch {
+            watched(&cancel, &mut *interrupt, || work(block));
+        } else {
+            work(block);
+        }
+        if cancel.is_raised() {
+            return Err(Error::Interrupted);
+        }
     }
     Ok(())
+}
+
+/// Runs `work` on the pool while the calling thread polls `interrupt`, raising `cancel` when it
+/// fires; returns when `work` has returned.
+fn watched<W: FnOnce() + Send>(cancel: &Cancel, interrupt: Interrupt<'_>, work: W) {
+    struct Done<'a>(&'a (Mutex<bool>, Condvar));
+    impl Drop for Done<'_> {
+        // also on unwinding, so the watcher never waits for a job that is gone
+        fn drop(&mut self) {
+            *self.0 .0.lock().unwrap_or_else(|e| e.into_inner()) = true;
+            self.0 .1.notify_all();
+        }
+    }
+    let done = (Mutex::new(false), Condvar::new());
+    rayon::in_place_scope(|scope| {
+        scope.spawn(|_| {
+            let _done = Done(&done);
+            work();
+        });
+        loop {
+            let guard = done.0.lock().unwrap_or_else(|e| e.into_inner());
+            let (guard, _) = done
+                .1
+                .wait_timeout_while(guard, POLL, |finished| !*finished)
+                .unwrap_or_else(|e| e.into_inner());
+            if *guard {
+                break;
+            }
+            drop(guard);
+            if !cancel.is_raised() && interrupt() {
+                cancel.raise();
+            }
+        }
+    });
 }
 
 #[cfg(test)]

@@ -7,7 +7,8 @@
 //! `1 / p(x)` (up to the constant that cancels in the ratio) is `1 / s` exactly, with no
 //! exponential. `x` lies in `S_min` exactly when `|z| <= 2`, i.e. `s >= e^-2`.
 //!
-//! Every pair draws from its own xoshiro256++ stream seeded from `(seed, pair index)`, so a seed
+//! Every pair draws from its own xoshiro256++ stream seeded from `(seed, pair index)`
+//! ([`crate::rng::stream`]), so a seed
 //! gives bit-identical results whatever the number of threads. With no sample inside `S_min`
 //! (probability `0.135^N`) the estimate is 0.
 //!
@@ -23,12 +24,10 @@
 //! indicator of a region with a smooth boundary its root-mean-square error falls like
 //! `N^(-3/4)` instead of `N^(-1/2)`, so 64 points match the accuracy of eq. 55 at N = 500.
 
-use rand::SeedableRng;
-use rand_xoshiro::Xoshiro256PlusPlus;
-
-use super::PairScore;
+use super::{Cancel, PairScore};
 use crate::ellipse::Ellipse;
 use crate::fastmath::ln_pos;
+use crate::rng::stream;
 
 /// How the sample points are drawn (see the module docs).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -69,10 +68,16 @@ pub struct MonteCarlo {
 }
 
 impl MonteCarlo {
-    /// Most samples per pair (well under a second for one pair, the longest stretch a call
-    /// runs between two checks for Ctrl-C; the standard error is then below 2e-4).
-    pub const MAX_SAMPLES: usize = 10_000_000;
+    /// Most samples per pair: the length of the 32-bit Sobol sequence (beyond it the points
+    /// would repeat), shared by every sampler so the option has one domain. An estimate from
+    /// that many samples has a standard error below 1e-5; one such pair runs for minutes, and
+    /// the sample loops check the driver's [`Cancel`] flag every [`CANCEL_CHECK`] samples, so
+    /// Ctrl-C stops it promptly.
+    pub const MAX_SAMPLES: usize = 1 << 32;
 }
+
+/// Samples drawn between two checks of the [`Cancel`] flag (about 0.2 ms of work).
+pub const CANCEL_CHECK: usize = 4096;
 
 impl Default for MonteCarlo {
     fn default() -> Self {
@@ -82,20 +87,6 @@ impl Default for MonteCarlo {
             sampler: Sampler::Importance,
         }
     }
-}
-
-/// SplitMix64 finaliser: decorrelates `(seed, index)` into a stream seed.
-#[inline]
-pub fn mix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
-/// The random stream of pair `index` under `seed`.
-pub fn stream(seed: u64, index: u64) -> Xoshiro256PlusPlus {
-    Xoshiro256PlusPlus::seed_from_u64(mix64(seed ^ mix64(index)))
 }
 
 /// Candidate samples drawn and evaluated together.
@@ -111,8 +102,16 @@ fn symmetric_unit(x: u64) -> f64 {
 ///
 /// Candidates `(u, v)` are drawn in blocks of 64; the first `samples` accepted ones (inside the
 /// unit disc) are used, in draw order, so the result depends only on the stream. The per-sample
-/// work is branch-free and vectorises; sums are accumulated in a fixed order.
-pub fn monte_carlo<R: rand::Rng>(a: &Ellipse, b: &Ellipse, samples: usize, rng: &mut R) -> f64 {
+/// work is branch-free and vectorises; sums are accumulated in a fixed order. Once `cancel` is
+/// raised (checked every [`CANCEL_CHECK`] candidates) the loop stops and returns NaN, which the
+/// driver discards.
+pub fn monte_carlo<R: rand::Rng>(
+    a: &Ellipse,
+    b: &Ellipse,
+    samples: usize,
+    rng: &mut R,
+    cancel: &Cancel,
+) -> f64 {
     let (small, other) = if a.area() <= b.area() { (a, b) } else { (b, a) };
     // x = c_s + (rx_s/2) z1 e1 + (ry_s/2) z2 e2, mapped straight into other's normalised frame:
     // n(x) = w + M z.
@@ -135,7 +134,12 @@ pub fn monte_carlo<R: rand::Rng>(a: &Ellipse, b: &Ellipse, samples: usize, rng: 
     let mut den = [0.0f64; 4];
     let mut num = [0.0f64; 4];
     let mut drawn = 0;
+    let mut blocks = 0usize;
     while drawn < samples {
+        blocks += 1;
+        if blocks % (CANCEL_CHECK / BLOCK) == 0 && cancel.is_raised() {
+            return f64::NAN;
+        }
         for i in 0..BLOCK {
             u[i] = symmetric_unit(rng.next_u64());
             v[i] = symmetric_unit(rng.next_u64());
@@ -200,17 +204,22 @@ fn small_to_other(a: &Ellipse, b: &Ellipse) -> ([f64; 2], [f64; 2], [f64; 2]) {
     )
 }
 
-/// `g` by `samples` points uniform in the smaller ellipse (rejection from the square).
+/// `g` by `samples` points uniform in the smaller ellipse (rejection from the square); NaN once
+/// `cancel` is raised.
 pub fn monte_carlo_uniform<R: rand::Rng>(
     a: &Ellipse,
     b: &Ellipse,
     samples: usize,
     rng: &mut R,
+    cancel: &Cancel,
 ) -> f64 {
     let (w, c1, c2) = small_to_other(a, b);
     let mut inside = 0usize;
     let mut drawn = 0usize;
     while drawn < samples {
+        if drawn % CANCEL_CHECK == 0 && cancel.is_raised() {
+            return f64::NAN;
+        }
         let u = symmetric_unit(rng.next_u64());
         let v = symmetric_unit(rng.next_u64());
         if u * u + v * v >= 1.0 {
@@ -295,19 +304,25 @@ pub fn concentric(x: f64, y: f64) -> (f64, f64) {
 }
 
 /// `g` by the first `samples` points of an Owen-scrambled Sobol sequence (seeded by `rng`)
-/// mapped uniformly into the smaller ellipse.
+/// mapped uniformly into the smaller ellipse; NaN once `cancel` is raised. At most
+/// [`MonteCarlo::MAX_SAMPLES`] points (the sequence's length).
 pub fn monte_carlo_sobol<R: rand::Rng>(
     a: &Ellipse,
     b: &Ellipse,
     samples: usize,
     rng: &mut R,
+    cancel: &Cancel,
 ) -> f64 {
+    debug_assert!(samples <= MonteCarlo::MAX_SAMPLES);
     let (w, c1, c2) = small_to_other(a, b);
     let bits = rng.next_u64();
     let (sx, sy) = (bits as u32, (bits >> 32) as u32);
     let scale = 1.0 / 4_294_967_296.0;
     let mut inside = 0usize;
     for i in 0..samples {
+        if i % CANCEL_CHECK == 0 && cancel.is_raised() {
+            return f64::NAN;
+        }
         let (x, y) = sobol2(i as u32);
         let (x, y) = (owen(x, sx), owen(y, sy));
         // the centre of the 2^-32 cell, so no coordinate is exactly 0 or 1
@@ -327,16 +342,25 @@ impl PairScore for MonteCarlo {
     }
 
     fn score(&self, a: &Ellipse, b: &Ellipse, index: u64) -> f64 {
+        self.score_cancellable(a, b, index, Cancel::never())
+    }
+
+    fn score_cancellable(&self, a: &Ellipse, b: &Ellipse, index: u64, cancel: &Cancel) -> f64 {
         let mut rng = stream(self.seed, index);
         match self.sampler {
-            Sampler::Importance => monte_carlo(a, b, self.samples, &mut rng),
-            Sampler::Uniform => monte_carlo_uniform(a, b, self.samples, &mut rng),
-            Sampler::Sobol => monte_carlo_sobol(a, b, self.samples, &mut rng),
+            Sampler::Importance => monte_carlo(a, b, self.samples, &mut rng, cancel),
+            Sampler::Uniform => monte_carlo_uniform(a, b, self.samples, &mut rng, cancel),
+            Sampler::Sobol => monte_carlo_sobol(a, b, self.samples, &mut rng, cancel),
         }
     }
 
+    fn long_pairs(&self) -> bool {
+        // 2^18 samples take about ten milliseconds
+        self.samples >= 1 << 18
+    }
+
     fn chunk_pairs(&self) -> usize {
-        // one pair per thread at most when a pair is long, so Ctrl-C is seen within one pair
+        // about 2^24 samples per chunk, at least one pair per thread
         ((1 << 24) / self.samples.max(1)).max(rayon::current_num_threads())
     }
 }
@@ -397,6 +421,59 @@ mod tests {
             }
         }
         assert!((inside as f64 / (n * n) as f64 - 0.25).abs() < 2e-3);
+    }
+
+    #[test]
+    fn raised_cancel_stops_one_long_pair() {
+        // 2^24 samples would take most of a second; a raised flag stops the loop at once
+        let cancel = Cancel::default();
+        cancel.raise();
+        let (a, b) = (
+            Ellipse::circle(0.0, 0.0, 1.0),
+            Ellipse::circle(1.0, 0.0, 1.0),
+        );
+        for sampler in [Sampler::Importance, Sampler::Uniform, Sampler::Sobol] {
+            let mc = MonteCarlo {
+                samples: 1 << 24,
+                seed: 1,
+                sampler,
+            };
+            assert!(
+                mc.score_cancellable(&a, &b, 0, &cancel).is_nan(),
+                "{sampler:?}"
+            );
+            // and a flag that is never raised changes nothing
+            let few = MonteCarlo {
+                samples: 5000,
+                ..mc
+            };
+            assert_eq!(
+                few.score_cancellable(&a, &b, 3, Cancel::never()),
+                few.score(&a, &b, 3)
+            );
+        }
+    }
+
+    #[test]
+    fn driver_interrupts_one_long_pair() {
+        // the hook returns true on its second call, which can only come from the calling
+        // thread polling while the single pair runs on the pool
+        let mc = MonteCarlo {
+            samples: 1 << 26,
+            seed: 1,
+            ..MonteCarlo::default()
+        };
+        let a = [Ellipse::circle(0.0, 0.0, 1.0)];
+        let b = [Ellipse::circle(1.0, 0.0, 1.0)];
+        let mut out = [0.0];
+        let mut calls = 0;
+        let mut hook = || {
+            calls += 1;
+            calls >= 2
+        };
+        let err = super::super::score_pairs(&mc, &a, &b, &mut out, &mut hook).unwrap_err();
+        assert_eq!(err, crate::error::Error::Interrupted);
+        assert!(calls >= 2);
     }
 
     #[test]

@@ -23,7 +23,7 @@
 //! geofeasibility scores.
 //!
 //! ```
-//! use geofeas::score::monte_carlo::stream;
+//! use geofeas::rng::stream;
 //! use geofeas::tracking::mht::{Mht, MhtConfig, Scenario};
 //!
 //! // The paper's two-target scenario with two false alarms per sensor per scan.

@@ -24,7 +24,7 @@ use super::scenario::Scenario;
 use super::scenario::G;
 use super::sensor::Detection;
 use crate::error::{Error, Result};
-use crate::score::monte_carlo::{mix64, stream};
+use crate::rng::{mix64, stream};
 
 /// The tracker of a study cell.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

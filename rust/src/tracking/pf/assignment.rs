@@ -205,7 +205,7 @@ mod tests {
     fn one_to_one_matches_brute_force() {
         let mut s = 12345u64;
         let mut rnd = || {
-            s = crate::score::monte_carlo::mix64(s);
+            s = crate::rng::mix64(s);
             (s >> 11) as f64 / (1u64 << 53) as f64
         };
         for _ in 0..200 {

@@ -18,7 +18,7 @@
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::score::monte_carlo::stream;
+use crate::rng::stream;
 use crate::tracking::pf::assignment::{weighted_distances, Assignment};
 use crate::tracking::pf::filter::{Estimate, ParticleFilter};
 use crate::tracking::pf::frame::{Frame, Psf};

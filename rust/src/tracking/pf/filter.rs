@@ -170,7 +170,7 @@ impl ParticleFilter {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::score::monte_carlo::stream;
+    use crate::rng::stream;
 
     #[test]
     fn estimate_of_a_uniform_cloud() {

@@ -174,7 +174,7 @@ pub fn profile(x: f64, reach: f64, n: usize, s: f64) -> Option<(usize, Vec<f64>)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::score::monte_carlo::stream;
+    use crate::rng::stream;
 
     #[test]
     fn psf_is_the_paper_gaussian() {

@@ -110,7 +110,7 @@ impl Ncv {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::score::monte_carlo::stream;
+    use crate::rng::stream;
 
     #[test]
     fn prediction_moments_match_phi_and_gamma() {

@@ -209,7 +209,7 @@ pub fn find_peaks(frame: &Frame, opts: &PeakOptions) -> Vec<Peak> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::score::monte_carlo::stream;
+    use crate::rng::stream;
     use crate::tracking::pf::frame::Psf;
 
     #[test]

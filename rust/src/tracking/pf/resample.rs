@@ -135,7 +135,7 @@ fn invert(w: &[f64], m: usize, point: impl Fn(usize) -> f64, out: &mut Vec<usize
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::score::monte_carlo::stream;
+    use crate::rng::stream;
 
     #[test]
     fn every_scheme_is_unbiased() {

@@ -8,7 +8,7 @@
 //! from the same particles). Frames are generated one at a time and dropped after use.
 
 use crate::error::Result;
-use crate::score::monte_carlo::{mix64, stream};
+use crate::rng::{mix64, stream};
 use crate::tracking::pf::bank::{Bank, PfConfig, Step};
 use crate::tracking::pf::frame::{noise_sigma, Frame, Psf};
 use crate::tracking::pf::peaks::{find_peaks, Peak, PeakOptions};

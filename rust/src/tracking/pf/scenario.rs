@@ -359,7 +359,7 @@ impl Scenario {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::score::monte_carlo::stream;
+    use crate::rng::stream;
 
     #[test]
     fn paper_targets_converge_cross_and_stay_in_the_array() {

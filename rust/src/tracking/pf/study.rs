@@ -105,7 +105,7 @@ pub fn bootstrap(
     if runs.len() < 2 || resamples == 0 {
         return (all, all);
     }
-    let mut rng = crate::score::monte_carlo::stream(seed ^ 0x9f_b007, runs.len() as u64);
+    let mut rng = crate::rng::stream(seed ^ 0x9f_b007, runs.len() as u64);
     let mut draws: Vec<[f64; 5]> = Vec::with_capacity(resamples);
     for _ in 0..resamples {
         let mut t = FilterTally::default();

@@ -486,7 +486,7 @@ pub fn normalise(log_w: &[f64], w: &mut [f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::score::monte_carlo::stream;
+    use crate::rng::stream;
 
     #[test]
     fn separable_equals_direct() {
