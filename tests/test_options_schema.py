@@ -65,3 +65,12 @@ def test_docs_table_is_rendered_from_the_schema():
     assert BEGIN in text and END in text, "docs/association.md lost its options table markers"
     table = text.split(BEGIN, 1)[1].split(END, 1)[0]
     assert table == _options_markdown(), "run: python scripts/options_doc.py"
+
+
+def test_score_names_are_the_cores():
+    from geofeas.scores import _OPTIONS
+
+    choices = next(o["choices"] for o in association_options() if o["name"] == "score")
+    # the core's scores, plus the alias glr_threshold (the GLR with threshold=True)
+    assert set(_OPTIONS) == set(choices) - {"glr_threshold"}
+    assert "glr_threshold" in choices
