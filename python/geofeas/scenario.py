@@ -41,6 +41,7 @@ import pandas as pd
 
 from ._core import GeofeasError
 from .ais import AisRecording
+from .scores import to_gaussian
 
 __all__ = [
     "AisSensor",
@@ -109,15 +110,17 @@ def _range_bearing(lat1: Any, lon1: Any, lat2: Any, lon2: Any) -> tuple[np.ndarr
 
 
 def covariance_from_aou(rx: Any, ry: Any, bearing_deg: Any) -> np.ndarray:
-    """East/north covariance ``(..., 2, 2)`` of 2-sigma AOUs (seed 000, eqs. 56-58)."""
-    b = np.radians(bearing_deg)
-    u = np.stack([np.sin(b), np.cos(b)], axis=-1)
-    v = np.stack([np.cos(b), -np.sin(b)], axis=-1)
-    sx, sy = (np.asarray(rx) / 2) ** 2, (np.asarray(ry) / 2) ** 2
-    return (
-        sx[..., None, None] * u[..., :, None] * u[..., None, :]
-        + sy[..., None, None] * v[..., :, None] * v[..., None, :]
+    """East/north covariance ``(..., 2, 2)`` of 2-sigma AOUs (seed 000, eqs. 56-58): the core's
+    :func:`geofeas.to_gaussian` of the ellipses ``(0, 0, rx, ry, bearing)``."""
+    rx, ry, b = np.broadcast_arrays(
+        np.asarray(rx, dtype=np.float64),
+        np.asarray(ry, dtype=np.float64),
+        np.radians(np.asarray(bearing_deg, dtype=np.float64)),
     )
+    zero = np.zeros(rx.size)
+    ellipses = np.column_stack([zero, zero, rx.ravel(), ry.ravel(), b.ravel()])
+    _, cov = to_gaussian(ellipses)
+    return cov.reshape(rx.shape + (2, 2))
 
 
 def aou_from_covariance(cov: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
