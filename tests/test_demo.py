@@ -10,8 +10,8 @@ from scipy import stats
 import geofeas
 from geofeas.ais import read_ais
 from geofeas.demo import bundled
-from geofeas.evaluate import evaluate, prf, track_table, true_pairs
-from geofeas.scenario import (
+from geofeas.demo.evaluate import evaluate, prf, track_table, true_pairs
+from geofeas.demo.scenario import (
     CoastalRadar,
     HfDf,
     PatrolAircraft,
@@ -275,7 +275,7 @@ def test_noise_consistent_with_aou(dense_hfdf, solent, source):
 
 
 def test_radar_aou_geometry(scenario):
-    from geofeas.scenario import _range_bearing
+    from geofeas.demo.scenario import _range_bearing
 
     radar = CoastalRadar()
     site = scenario.geometry["radar_site"]
@@ -464,8 +464,9 @@ def test_prf_edge_cases():
 
 
 def test_cli_names_match_the_modules():
-    from geofeas import demo, scenario
+    from geofeas import demo
     from geofeas.cli import demo as _cli_demo
+    from geofeas.demo import scenario
 
     assert list(_cli_demo.SENSORS) == list(scenario.SENSORS)
     assert list(_cli_demo.SCORES) == list(demo.SCORES)
@@ -543,7 +544,7 @@ def test_pipeline_outputs(short_demo, tmp_path):
 def test_calibrated_rule_beats_the_plain_mean(short_demo):
     # the geometric mean of a long true pair drifts to 1/e, below the 0.5 borderline: on the
     # score column, true pairs rank above false ones far better with the calibrated rule
-    from geofeas.evaluate import labels
+    from geofeas.demo.evaluate import labels
 
     def separation(run):
         y = labels(run.pairs, short_demo.tracks)
@@ -555,7 +556,7 @@ def test_calibrated_rule_beats_the_plain_mean(short_demo):
 
 
 def test_reliability_table_and_ece_by_hand():
-    from geofeas.evaluate import reliability
+    from geofeas.demo.evaluate import reliability
 
     p = np.array([0.05, 0.05, 0.95, 0.95, 0.55, 0.55])
     y = np.array([0, 0, 1, 0, 1, 1], dtype=bool)
@@ -605,3 +606,17 @@ def test_demo_command_end_to_end(tmp_path, capsys, sensors, decisions, bound):
     )
     reports = pd.read_csv(out / "reports.csv")
     assert set(reports["source"]) == set(sensors.split(","))
+
+
+def test_old_module_paths_warn_and_are_the_moved_modules():
+    import importlib
+    import sys
+
+    from geofeas.demo import evaluate as moved_evaluate
+    from geofeas.demo import scenario as moved_scenario
+
+    for old, moved in (("geofeas.scenario", moved_scenario), ("geofeas.evaluate", moved_evaluate)):
+        sys.modules.pop(old, None)
+        with pytest.warns(DeprecationWarning, match="moved to geofeas.demo"):
+            module = importlib.import_module(old)
+        assert module is moved

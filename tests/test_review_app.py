@@ -237,7 +237,7 @@ def test_coastline_is_the_isle_of_wight():
     if gshhg_file() is None:
         pytest.skip("no GSHHG file installed (apt-get install gmt-gshhg-high)")
     c = coastline(50.50, -1.70, 50.70, -1.00)
-    from geofeas.scenario import metres_per_degree
+    from geofeas.demo.scenario import metres_per_degree
 
     m_lat, m_lon = metres_per_degree(50.6)
     scale = np.array([m_lon, m_lat])

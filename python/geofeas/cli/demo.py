@@ -27,7 +27,7 @@ from ..association import COMBINE_RULES
 from .associate import add_triage_arguments
 
 # the names only (the modules need pandas, imported when the command runs); tests check that
-# they match geofeas.scenario.SENSORS, geofeas.demo.SCORES and geofeas.demo.RECORDINGS
+# they match geofeas.demo.scenario.SENSORS, geofeas.demo.SCORES and geofeas.demo.RECORDINGS
 SENSORS = ("ais", "radar", "aircraft", "hfdf")
 SCORES = ("glr", "glr_threshold", "overlap", "monte_carlo")
 RECORDINGS = ("solent", "nyharbor")

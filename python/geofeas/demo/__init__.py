@@ -2,9 +2,9 @@
 scored against the MMSI ground truth (``geofeas demo``).
 
 :func:`run` reads and cleans the recording (:mod:`geofeas.ais`), simulates the sources
-(:mod:`geofeas.scenario`), associates the reports with the default configuration (and with any
+(:mod:`geofeas.demo.scenario`), associates the reports with the default configuration (and with any
 score and combination rule asked for), scores the association against the truth
-(:mod:`geofeas.evaluate`): the triage, the calibration of ``p_same`` (reliability diagram,
+(:mod:`geofeas.demo.evaluate`): the triage, the calibration of ``p_same`` (reliability diagram,
 expected calibration error) and an operator who answers the review queue truthfully.
 :func:`plot_map` draws the AOUs of a busy area coloured by associated object.
 """
@@ -23,10 +23,10 @@ from typing import Any, TextIO
 import numpy as np
 import pandas as pd
 
-from ._atomic import atomic_path, save_figure, write_text
-from ._core import GeofeasError
-from .ais import AisRecording, read_ais
-from .association import COMBINE_RULES, associate, read_reports
+from .._atomic import atomic_path, save_figure, write_text
+from .._core import GeofeasError
+from ..ais import AisRecording, read_ais
+from ..association import COMBINE_RULES, associate, read_reports
 from .evaluate import Metrics, evaluate, labels, reliability, simulate_operator, track_table
 from .scenario import Scenario, metres_per_degree, simulate
 
@@ -110,7 +110,7 @@ class DemoResult:
     default: Run
     runs: list[Run] = field(default_factory=list)
     #: Reliability table of the default association's ``p_same`` (see
-    #: :func:`geofeas.evaluate.reliability`) and its expected calibration error.
+    #: :func:`geofeas.demo.evaluate.reliability`) and its expected calibration error.
     calibration: pd.DataFrame | None = None
     ece: float = math.nan
     #: F1 after each number of truthful operator decisions (:func:`simulate_operator`).
@@ -191,7 +191,7 @@ def run(
     ais : str or Path
         A bundled recording name (:data:`RECORDINGS`) or the path of an AIS CSV file.
     sensors, seed, minutes
-        Passed to :func:`geofeas.scenario.simulate`.
+        Passed to :func:`geofeas.demo.scenario.simulate`.
     scores, combines : sequence of str
         Further associations for a comparison table of the ``score`` column's configurations
         (keys of :data:`SCORES`, and combination rules, each with the other's default). The
@@ -294,7 +294,7 @@ def plot_map(
     from matplotlib.lines import Line2D
     from matplotlib.patches import Ellipse
 
-    from .review.coast import Coastline, coastline
+    from ..review.coast import Coastline, coastline
 
     sc = result.scenario
     rep, sec = sc.reports, sc.seconds
@@ -326,8 +326,10 @@ def plot_map(
             vessel_objects.setdefault(int(mmsi[tid]), set()).add(o)
     palette = list(plt.get_cmap("tab10").colors) + list(plt.get_cmap("Dark2").colors)
     ids = sorted({v for v in obj.values() if v != -1})
-    style_of = {o: (palette[k % len(palette)], "-" if (k // len(palette)) % 2 == 0 else "--")
-                for k, o in enumerate(ids)}
+    style_of = {
+        o: (palette[k % len(palette)], "-" if (k // len(palette)) % 2 == 0 else "--")
+        for k, o in enumerate(ids)
+    }
     fig, ax = plt.subplots(figsize=(9, 9))
     west, east = lon_c - half / m_lon, lon_c + half / m_lon
     south, north = lat_c - half / m_lat, lat_c + half / m_lat
@@ -406,8 +408,16 @@ def plot_map(
         f"(by the truth); coastline: {'GSHHG' if coast.source else 'not installed'}"
     )
     handles = [
-        Line2D([], [], color="0.3", marker="o", ms=6, ls="", mfc=(0.3, 0.3, 0.3, 0.35),
-               label="AIS (20 m circle, dot at centre)"),
+        Line2D(
+            [],
+            [],
+            color="0.3",
+            marker="o",
+            ms=6,
+            ls="",
+            mfc=(0.3, 0.3, 0.3, 0.35),
+            label="AIS (20 m circle, dot at centre)",
+        ),
         Line2D([], [], color="0.3", ls="-", label="radar / aircraft / HF DF AOU"),
         Line2D([], [], color=palette[0], ls="-", label="one colour per merged object"),
         Line2D([], [], color=(0.55, 0.55, 0.55), ls=":", label="left alone (no partner)"),
@@ -509,7 +519,12 @@ def plot_reliability(result: DemoResult, path: str | Path, /) -> Path:
     ax.plot([0, 1], [0, 1], color="0.6", lw=1, label="perfect calibration")
     yerr = np.vstack([t["observed"] - t["observed_lo"], t["observed_hi"] - t["observed"]])
     ax.errorbar(
-        t["predicted"], t["observed"], yerr=yerr, fmt="o-", color="C0", capsize=3,
+        t["predicted"],
+        t["observed"],
+        yerr=yerr,
+        fmt="o-",
+        color="C0",
+        capsize=3,
         label="observed (Wilson 95 %)",
     )
     ax.set_ylabel("observed frequency of true duplicates")
