@@ -139,7 +139,7 @@ pub fn chunks(r: &Reports, align: &Alignment, o: &IndexOptions) -> Vec<Chunk> {
             let (start, end) = (range.start, range.end);
             let connected = |i: usize| i + 1 < end && r.time[i + 1] - r.time[i] <= align.max_gap;
             let neighbour =
-                |e: usize, n: usize| Some((r.time[e] - r.time[n], dist3(&r.point[e], &r.point[n])));
+                |e: usize, n: usize| (r.time[e] - r.time[n], dist3(&r.point[e], &r.point[n]));
             let mut out = Vec::new();
             let mut s = start;
             while s < end {
@@ -167,12 +167,12 @@ pub fn chunks(r: &Reports, align: &Alignment, o: &IndexOptions) -> Vec<Chunk> {
                 if s == start {
                     lo[3] -= h;
                     let nb = (start + 1 < end).then(|| neighbour(start, start + 1));
-                    extra = extra.max(end_growth(align, nb.flatten(), geo));
+                    extra = extra.max(end_growth(align, nb, geo));
                 }
                 if e + 1 == end {
                     hi[3] += h;
                     let nb = (e > start).then(|| neighbour(e, e - 1));
-                    extra = extra.max(end_growth(align, nb.flatten(), geo));
+                    extra = extra.max(end_growth(align, nb, geo));
                 }
                 let (l3, h3) = grown(
                     [lo[0], lo[1], lo[2]],
@@ -308,13 +308,13 @@ impl TrackPartial {
     /// diagonal) and the larger extrapolation term of the two ends, each term of a chunk being
     /// no larger (the functions are increasing); the margin is twice a chunk's.
     pub fn halo_box(&self, align: &Alignment, geo: bool, halo: f64) -> ([f64; 4], [f64; 4]) {
-        let (l3, h3) = grown(
-            self.lo,
-            self.hi,
-            self.growth(align, geo, halo),
-            2.0 * MARGIN,
-            geo,
-        );
+        self.box_grown_by(align, geo, self.growth(align, geo, halo))
+    }
+
+    /// The box of [`TrackPartial::halo_box`] for a spatial growth `g` already computed by
+    /// [`TrackPartial::growth`].
+    pub fn box_grown_by(&self, align: &Alignment, geo: bool, g: f64) -> ([f64; 4], [f64; 4]) {
+        let (l3, h3) = grown(self.lo, self.hi, g, 2.0 * MARGIN, geo);
         (
             [l3[0], l3[1], l3[2], self.t_min - align.horizon],
             [h3[0], h3[1], h3[2], self.t_max + align.horizon],

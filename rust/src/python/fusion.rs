@@ -372,14 +372,17 @@ fn association_track_boxes<'py>(
         }
         .into());
     }
+    // one contiguous view (a copy only for a strided input), read row by row
+    let rows = rows.as_standard_layout();
+    let flat = rows.as_slice().expect("standard layout is contiguous");
     let mut merged: Vec<Option<TrackPartial>> = vec![None; n_tracks];
-    for (row, (&k, v)) in t.iter().zip(rows.rows()).enumerate() {
+    for (row, (&k, v)) in t.iter().zip(flat.chunks_exact(PARTIAL_WIDTH)).enumerate() {
         let slot = merged.get_mut(k as usize).ok_or_else(|| {
             Error::Invalid(format!(
                 "track row {row}: {k} is not below n_tracks = {n_tracks}"
             ))
         })?;
-        let p = TrackPartial::from_row(&v.to_vec(), row)?;
+        let p = TrackPartial::from_row(v, row)?;
         match slot {
             Some(m) => m.merge(&p),
             None => *slot = Some(p),
@@ -391,16 +394,19 @@ fn association_track_boxes<'py>(
         .map(|(k, p)| p.ok_or_else(|| Error::Invalid(format!("track {k} has no partial"))))
         .collect::<Result<_, _>>()?;
     let n = merged.len();
-    let (mut lo, mut hi, mut first) = (
+    let (mut lo, mut hi, mut first, mut growth) = (
         Vec::with_capacity(4 * n),
         Vec::with_capacity(4 * n),
         Vec::with_capacity(5 * n),
+        Vec::with_capacity(n),
     );
     for p in &merged {
-        let (l, h) = p.halo_box(&align, geographic, halo);
+        let g = p.growth(&align, geographic, halo);
+        let (l, h) = p.box_grown_by(&align, geographic, g);
         lo.extend_from_slice(&l);
         hi.extend_from_slice(&h);
         first.extend_from_slice(&p.ends[0].aou);
+        growth.push(g);
     }
     let shaped = |v: Vec<f64>, k: usize| {
         numpy::ndarray::Array2::from_shape_vec((n, k), v).map_err(|e| Error::Invalid(e.to_string()))
@@ -415,14 +421,7 @@ fn association_track_boxes<'py>(
         "spread",
         col(|p| posterior::Track::spread_of(p.area_min, p.area_max)).into_pyarray(py),
     )?;
-    d.set_item(
-        "halo",
-        merged
-            .iter()
-            .map(|p| p.growth(&align, geographic, halo))
-            .collect::<Vec<f64>>()
-            .into_pyarray(py),
-    )?;
+    d.set_item("halo", growth.into_pyarray(py))?;
     d.set_item("lo", shaped(lo, 4)?.into_pyarray(py))?;
     d.set_item("hi", shaped(hi, 4)?.into_pyarray(py))?;
     d.set_item("first_time", col(|p| p.ends[0].time).into_pyarray(py))?;
