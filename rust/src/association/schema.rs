@@ -51,10 +51,8 @@ pub fn options() -> Vec<OptionSpec> {
         choices: Vec::new(),
         help,
     };
-    let score = match d.score {
-        crate::score::Score::Glr(g) if !g.threshold => "glr",
-        _ => unreachable!("the default score is the GLR"),
-    };
+    // the default score by name (the test below holds it equal to `Options::default().score`)
+    let score = "glr";
     vec![
         OptionSpec {
             choices: score_names(),
@@ -176,6 +174,12 @@ mod tests {
             other => panic!("{name}: {other:?}"),
         };
         let d = Options::default();
+        let Value::Text(score) = get("score") else {
+            panic!("score is a name")
+        };
+        let by_name =
+            crate::score::Score::from_name(score, &crate::score::spec::Options::default()).unwrap();
+        assert_eq!(by_name, d.score);
         assert_eq!(f("p_match"), d.p_match);
         assert_eq!(f("p_reject"), d.p_reject);
         assert_eq!(f("max_gap"), d.align.max_gap);
