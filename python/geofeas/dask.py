@@ -112,10 +112,9 @@ def _partials(rep: Reports) -> tuple[NDArray[Any], NDArray[Any], NDArray[np.floa
     """The engine's mergeable partial of every track of some of the reports
     (``association_track_partials``), with the tracks' ids and sources: merged over any split
     of the reports by :func:`_combine`, so the tracks' boxes need no shuffle of the reports."""
-    first = np.zeros(rep.n_tracks, np.int64)
-    first[rep.track[::-1]] = np.arange(len(rep) - 1, -1, -1)  # each track's first row
-    partial = _core.association_track_partials(rep)
-    return rep.track_ids, rep.sources[rep.source[first]], partial
+    source = np.zeros(rep.n_tracks, np.uint32)
+    source[rep.track] = rep.source  # read_reports checked: one source per track
+    return rep.track_ids, rep.sources[source], _core.association_track_partials(rep)
 
 
 def _combine(
@@ -138,8 +137,10 @@ def _combine(
         ) from None
     inverse = inverse.reshape(-1)
     src = np.concatenate([p[1] for p in parts]) if parts else np.zeros(0, object)
-    first = np.zeros(len(track_ids), np.int64)
-    first[inverse[::-1]] = np.arange(len(inverse) - 1, -1, -1)
+    # a track's source as one partition gives it (the tiles, holding whole tracks, refuse a
+    # track given two)
+    source = np.empty(len(track_ids), dtype=object)
+    source[inverse] = src
     geo = coords == "geographic"
     raw = _core.association_track_boxes(
         np.concatenate([p[2] for p in parts]) if parts else np.zeros((0, 1)),
@@ -151,7 +152,7 @@ def _combine(
     )
     out: dict[str, Any] = {
         "track_id": track_ids,
-        "source": src[first],
+        "source": source,
         "start": raw["start"],
         "end": raw["end"],
         "reports": raw["reports"].astype(np.int64),
@@ -565,9 +566,8 @@ def _name_rows(exc: GeofeasError, ddf: dd.DataFrame) -> GeofeasError:
     """The error with its rows, numbered ``(partition << 40) + row`` by the tasks, renamed as
     rows of the whole table (the partitions' lengths are counted only now, on the error
     path); the message is built anew from its parts (see ``association._error``)."""
-    row = getattr(exc, "row", None)
-    if row is None or row < 1 << _ROW_BITS and getattr(exc, "_where", None) is None:
-        return exc
+    if getattr(exc, "row", None) is None or getattr(exc, "_where", None) is None:
+        return exc  # not about a row of the reports
     offsets = np.concatenate([[0], np.cumsum(np.asarray(ddf.map_partitions(len).compute()))])
     mask = (1 << _ROW_BITS) - 1
 
