@@ -8,9 +8,11 @@ import argparse
 import inspect
 from pathlib import Path
 
+import pytest
+
 import geofeas
 import geofeas.dask
-from geofeas._core import association_options
+from geofeas._core import GeofeasError, association_options
 from geofeas.association import ASSOCIATION_DEFAULTS, OPTIONS, _options_markdown
 from geofeas.cli import associate as _cli_associate
 
@@ -33,12 +35,17 @@ def test_python_signature_is_the_schema():
     assert [o["name"] for o in OPTIONS] == [n for n, _ in _schema()]
 
 
-def test_dask_and_with_decisions_resolve_the_same_names():
-    # geofeas.dask.associate takes the options as keywords and checks them against the schema
-    doc = geofeas.dask.associate.__doc__ or ""
-    assert "geofeas.associate" in doc
-    params = inspect.signature(geofeas.dask.associate).parameters
-    assert any(p.kind is p.VAR_KEYWORD for p in params.values())
+def test_dask_takes_the_schema_names_and_refuses_others():
+    import pandas as pd
+
+    one = pd.DataFrame(
+        dict(track_id=["a"], source=["ais"], time=[0.0], x=[0.0], y=[0.0], rx=[10.0], ry=[5.0])
+    ).assign(phi=0.0)
+    with pytest.raises(TypeError, match="not_an_option"):
+        geofeas.dask.associate(one, not_an_option=1)
+    # every schema name is accepted (checked by the engine before any work is distributed)
+    with pytest.raises(GeofeasError, match="p_match"):
+        geofeas.dask.associate(one, **{**ASSOCIATION_DEFAULTS, "p_match": 0.2})
 
 
 def _parser() -> argparse.ArgumentParser:
