@@ -568,6 +568,24 @@ def test_reliability_table_and_ece_by_hand():
         reliability([1.5], [True])
 
 
+@pytest.mark.parametrize("n", [1, 3, 7, 300, 1001])
+def test_wilson_interval_holds_the_observed_frequency(n):
+    from geofeas.demo.evaluate import reliability
+
+    # bins where nothing or everything is a true pair: the interval's edge is the frequency itself
+    # (0 or 1) and must not be rounded past it; the error bars drawn from it are then >= 0
+    p = np.r_[np.full(n, 0.03), np.full(n, 0.45), np.full(n, 0.97)]
+    y = np.r_[np.zeros(n, bool), np.zeros(n, bool), np.ones(n, bool)]
+    table, _ = reliability(p, y, bins=10)
+    assert (table["observed_lo"] <= table["observed"]).all()
+    assert (table["observed"] <= table["observed_hi"]).all()
+    assert list(table["observed_lo"][table["observed"] == 0]) == [0.0, 0.0]
+    assert list(table["observed_hi"][table["observed"] == 1]) == [1.0]
+    # the Wilson bound of an empty bin is (0, z^2 / (n + z^2))
+    z2 = 1.959963984540054**2
+    assert table["observed_hi"].iloc[0] == pytest.approx(z2 / (n + z2))
+
+
 # F1 of the automatic matches with AIS and radar; with every source, where the aircraft and HF
 # DF pairs geometry cannot decide go to the operator, F1 after 100 truthful decisions
 @pytest.mark.parametrize(

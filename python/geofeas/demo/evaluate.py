@@ -315,8 +315,10 @@ def reliability(p: Any, y: Any, *, bins: int = 10) -> tuple[pd.DataFrame, float]
                 n=n,
                 predicted=pred,
                 observed=obs,
-                observed_lo=max(0.0, centre - half),
-                observed_hi=min(1.0, centre + half),
+                # the Wilson interval holds the observed frequency; rounding must not put a
+                # bound on the wrong side of it (at 0 or 1 both sides cancel exactly)
+                observed_lo=min(obs, max(0.0, centre - half)),
+                observed_hi=max(obs, min(1.0, centre + half)),
             )
         )
         ece += n / p.size * abs(pred - obs)
