@@ -66,7 +66,7 @@ from .association import (
     _resolve_options,
     read_reports,
 )
-from .decisions import Decisions, read_decisions
+from .association.decisions import Decisions, read_decisions
 
 try:
     import dask.dataframe as dd

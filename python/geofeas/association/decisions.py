@@ -16,12 +16,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._core import GeofeasError
+from .._core import GeofeasError
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-    from .association import Reports
+    from .engine import Reports
 
 __all__ = ["DECISION_COLUMNS", "DECISIONS", "Decisions", "read_decisions"]
 

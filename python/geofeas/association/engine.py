@@ -18,9 +18,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from . import _core
-from ._atomic import atomic_path, atomic_paths
-from ._core import GeofeasError
+from .. import _core
+from .._atomic import atomic_path, atomic_paths
+from .._core import GeofeasError
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -771,7 +771,7 @@ def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, 
         raise GeofeasError(f"score: unknown score {score!r} (expected one of {SCORES})")
     if opts.get("seed") is None:
         opts.pop("seed", None)
-    from .scores import _OPTIONS
+    from ..scores import _OPTIONS
 
     misplaced = sorted(set(opts) - _OPTIONS[score])
     if misplaced:
@@ -1013,7 +1013,7 @@ def combine_instants(
     Domain: at least one instant; ``g`` in ``[0, 1]``; ``m`` in ``[0, inf]`` (``inf`` where
     ``g`` is 0); ``time`` finite and strictly increasing; ``correlation_time`` finite and
     ``>= 0``. Anything else raises ``GeofeasError`` naming the argument and the element."""
-    from ._arrays import as_float_array
+    from .._arrays import as_float_array
 
     gg = as_float_array(g, "g").reshape(-1)
     if gg.size == 0:
