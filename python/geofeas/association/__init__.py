@@ -1,37 +1,47 @@
 """Track-to-track association: the library's wrapper of the engine (``docs/association.md``).
 
-:func:`read_reports` reads and validates a picture, :func:`associate` runs the engine on it and
-returns an :class:`Association`; :mod:`.decisions` reads the operator's decisions it takes as
-constraints. The public names are re-exported by :mod:`geofeas`; the private helpers below are
-shared with the distributed path (:mod:`geofeas.integrations.dask`) and the Stone Soup bridge.
+- :mod:`.reports`: :func:`read_reports`, reading and validating a picture into :class:`Reports`;
+- :mod:`.options`: the options of :func:`associate`, from the schema defined once in the core;
+- :mod:`.engine`: :func:`associate` (the engine's call) and its result, :class:`Association`;
+- :mod:`.decisions`: :func:`~.decisions.read_decisions`, the operator's decisions the
+  association takes as constraints.
+
+The public names are re-exported by :mod:`geofeas`. The names below are those of the module
+``geofeas.association`` was before it became this package; the private ones are shared with the
+distributed path (:mod:`geofeas.integrations.dask`), the Stone Soup bridge and the tests.
 """
 
-from .engine import (  # noqa: F401 (re-exported: the module's names before it became a package)
-    ASSOCIATION_DEFAULTS,
+# the re-exports below are this package's interface (F401: not used here)
+from .engine import (  # noqa: F401
     CLASSES,
-    COMBINE_RULES,
-    DEFAULT_UPPER,
-    GEOGRAPHIC,
-    OPTIONS,
-    PLANAR,
-    REQUIRED,
-    SCORES,
     Association,
-    Reports,
-    _error,
-    _options_markdown,
-    _read_reports,
-    _relabelled,
-    _ReportColumns,
-    _resolve_options,
-    _Row,
-    _Where,
     associate,
     combine_instants,
     load_association,
-    read_reports,
     write_table,
     write_tables,
+)
+from .options import (  # noqa: F401
+    ASSOCIATION_DEFAULTS,
+    COMBINE_RULES,
+    DEFAULT_UPPER,
+    OPTIONS,
+    SCORES,
+    _options_markdown,
+    _resolve_options,
+)
+from .reports import (  # noqa: F401
+    GEOGRAPHIC,
+    PLANAR,
+    REQUIRED,
+    Reports,
+    _error,
+    _read_reports,
+    _relabelled,
+    _ReportColumns,
+    _Row,
+    _Where,
+    read_reports,
 )
 
 __all__ = [

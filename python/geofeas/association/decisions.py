@@ -21,7 +21,7 @@ from .._core import GeofeasError
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-    from .engine import Reports
+    from .reports import Reports
 
 __all__ = ["DECISION_COLUMNS", "DECISIONS", "Decisions", "read_decisions"]
 
