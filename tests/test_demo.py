@@ -8,7 +8,6 @@ import pytest
 from scipy import stats
 
 import geofeas
-from geofeas.ais import read_ais
 from geofeas.demo import bundled
 from geofeas.demo.evaluate import evaluate, prf, track_table, true_pairs
 from geofeas.demo.scenario import (
@@ -21,6 +20,7 @@ from geofeas.demo.scenario import (
     metres_per_degree,
     simulate,
 )
+from geofeas.io.ais import read_ais
 
 SOLENT_HEADER = "Time,MMSI,Latitude_degrees,Longitude_degrees,COG_degrees,SOG_knots\n"
 MC_HEADER = (

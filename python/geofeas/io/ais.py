@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from ._core import GeofeasError
+from .._core import GeofeasError
 
 __all__ = ["AIS_SCHEMAS", "FIELD_ALIASES", "AisRecording", "read_ais"]
 

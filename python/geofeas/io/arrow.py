@@ -18,10 +18,10 @@ import os
 from pathlib import Path
 from typing import Any
 
-from ._core import GeofeasError
-from .association import Association, Reports
-from .association import associate as _associate
-from .association import read_reports as _read
+from .._core import GeofeasError
+from ..association import Association, Reports
+from ..association import associate as _associate
+from ..association import read_reports as _read
 
 __all__ = [
     "associate",
@@ -37,7 +37,7 @@ def _pyarrow() -> Any:
     try:
         import pyarrow as pa  # type: ignore[import-untyped,unused-ignore]
     except ImportError:  # pragma: no cover - depends on the environment
-        raise GeofeasError("geofeas.arrow needs pyarrow: pip install 'geofeas[io]'") from None
+        raise GeofeasError("geofeas.io.arrow needs pyarrow: pip install 'geofeas[io]'") from None
     return pa
 
 
@@ -99,7 +99,7 @@ def write_parquet(association: Association, directory: str | os.PathLike[str], /
     as one transaction: neither file is replaced unless both were written."""
     import pyarrow.parquet as pq  # type: ignore[import-untyped,unused-ignore]
 
-    from ._atomic import atomic_paths
+    from .._atomic import atomic_paths
 
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)
