@@ -54,8 +54,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._core import GeofeasError
-from .scores import _options, from_gaussian, glr, overlap, to_gaussian
+from .._core import GeofeasError
+from ..scores import _options, from_gaussian, glr, overlap, to_gaussian
 
 try:
     import pandas as pd  # type: ignore[import-untyped,unused-ignore]
@@ -74,7 +74,8 @@ try:
     from stonesoup.types.track import Track  # type: ignore[import-untyped]
 except ImportError as exc:  # pragma: no cover - exercised by test_missing_stonesoup
     raise ImportError(
-        f"geofeas.stonesoup needs Stone Soup and pandas: pip install 'geofeas[stonesoup]' ({exc})"
+        "geofeas.integrations.stonesoup needs Stone Soup and pandas: "
+        f"pip install 'geofeas[stonesoup]' ({exc})"
     ) from exc
 
 __all__ = [
@@ -541,7 +542,7 @@ def _geographic_ellipses(
         raise GeofeasError(
             f"argument 'origin': expected (lat, lon) in degrees, got {origin!r}"
         ) from None
-    from ._core import project_aeqd
+    from .._core import project_aeqd
 
     ell = project_aeqd(np.ascontiguousarray(aou), (lat0, lon0))
     return np.asarray(ell, dtype=np.float64), (lat0, lon0)
@@ -785,8 +786,8 @@ def align_tracks(
         if bad.size:
             raise GeofeasError(f"argument 'times': element {bad[0]} is not finite")
         grid = np.unique(grid)
-    from ._core import association_states_at
-    from .association import _ReportColumns
+    from .._core import association_states_at
+    from ..association import _ReportColumns
 
     columns = _ReportColumns(
         track=dense,
@@ -853,7 +854,7 @@ def associate(
         ``pairs`` (``track_a``, ``track_b`` are the tracks' ids; ``p_same``, ``class``,
         ``review_rank`` ...), ``objects`` (``p_alone`` per track), ``review_queue``.
     """
-    from .association import associate as _associate
+    from ..association import associate as _associate
 
     reports = tracks_to_reports(tracks, source=source, mapping=mapping)
     return _associate(reports, decisions=decisions, **options)

@@ -25,12 +25,12 @@ How it is cut up (the argument in full is in ``docs/fusion-stacks.md``):
    pairs with the engine's space-time index;
 3. a tile keeps, and summarises with the engine (``association_pair_stats``: the score and the
    Gaussian evidence of the common instants), only the pairs it *owns*: those whose box
-   intersection has its lower corner in the tile (:mod:`geofeas._tiling`). Every candidate pair
-   is therefore scored exactly once, with the very reports, options and track order of the
-   single-machine run. A tile also takes the engine's picture counts (track-time per source and
-   per density cell, in whole microseconds) of the tracks whose *home* it is — the first tile
-   a track is copied into — so every track is counted once and the integer counts of all tiles
-   add up to the whole picture's exactly;
+   intersection has its lower corner in the tile (:mod:`geofeas.integrations._tiling`). Every
+   candidate pair is therefore scored exactly once, with the very reports, options and track
+   order of the single-machine run. A tile also takes the engine's picture counts (track-time
+   per source and per density cell, in whole microseconds) of the tracks whose *home* it is —
+   the first tile a track is copied into — so every track is counted once and the integer
+   counts of all tiles add up to the whole picture's exactly;
 4. everything global runs once, on the gathered pairs and the merged counts, in the engine's
    own ``finish`` (the function the single-machine pipeline ends with): the covariance
    inflation, the picture's object density and coverage, each pair's evidence, the posterior
@@ -51,10 +51,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from . import _core
-from ._core import GeofeasError
-from ._tiling import Grid, explode, owner
-from .association import (
+from .. import _core
+from .._core import GeofeasError
+from ..association import (
     ASSOCIATION_DEFAULTS,
     GEOGRAPHIC,
     PLANAR,
@@ -66,14 +65,15 @@ from .association import (
     _resolve_options,
     read_reports,
 )
-from .association.decisions import Decisions, read_decisions
+from ..association.decisions import Decisions, read_decisions
+from ._tiling import Grid, explode, owner
 
 try:
     import dask.dataframe as dd
     import pandas as pd  # type: ignore[import-untyped,unused-ignore]
 except ImportError as exc:  # pragma: no cover - exercised by test_missing_dask
     raise ImportError(
-        f"geofeas.dask needs Dask and pandas: pip install 'geofeas[dask]' ({exc})"
+        f"geofeas.integrations.dask needs Dask and pandas: pip install 'geofeas[dask]' ({exc})"
     ) from exc
 
 __all__ = ["associate", "track_boxes"]
