@@ -148,3 +148,40 @@ def test_new_subpackages_import_nothing_optional():
         timeout=300,
     )
     assert run.returncode == 0, run.stderr
+
+
+#: the layers of ARCHITECTURE.md, each with the layers it must not import
+CORE = ["geofeas", "geofeas.scores", "geofeas.association"]
+LIBRARY = ["geofeas.io", "geofeas.integrations", "geofeas.tracking"]
+APPLICATION = ["geofeas.cli", "geofeas.demo", "geofeas.review"]
+
+
+@pytest.mark.parametrize(
+    "layer, forbidden",
+    [(CORE, LIBRARY[:2] + APPLICATION), (CORE + LIBRARY, APPLICATION)],
+    ids=["core", "library"],
+)
+def test_imports_point_down_the_layers(layer, forbidden):
+    """Every module of a layer, imported in a fresh interpreter, loads nothing of the layers
+    above it: the core no io or integrations, no library module the application."""
+    code = "\n".join(
+        [
+            "import importlib, pkgutil, sys",
+            f"layer, forbidden = {layer!r}, {forbidden!r}",
+            "old = {" + ", ".join(repr(o) for o in MOVED) + "}",
+            "names = []",
+            "for top in layer:",
+            "    package = importlib.import_module(top)",
+            "    names.append(top)",
+            "    if top != 'geofeas' and hasattr(package, '__path__'):",
+            "        names += [m.name for m in pkgutil.walk_packages(package.__path__, top + '.')]",
+            "for name in names:",
+            "    if name not in old:",
+            "        importlib.import_module(name)",
+            "bad = sorted(m for m in sys.modules for f in forbidden",
+            "             if m == f or m.startswith(f + '.'))",
+            "assert not bad, bad",
+        ]
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
