@@ -4,8 +4,9 @@ A synthetic picture of about 1,000,000 reports (ships seen by AIS and by coastal
 2,000 km square, radar tracks broken and renumbered) is associated
 
 1. by ``geofeas.associate`` in this process (rayon on every core): the baseline;
-2. by ``geofeas.dask.associate`` on a ``distributed.LocalCluster`` of 1 worker process and of
-   2 worker processes (one thread each, ``RAYON_NUM_THREADS=1`` per worker), loopback only.
+2. by ``geofeas.integrations.dask.associate`` on a ``distributed.LocalCluster`` of 1 worker
+   process and of 2 worker processes (one thread each, ``RAYON_NUM_THREADS=1`` per worker),
+   loopback only.
 
 Every distributed result is checked equal to the baseline before its time is reported. Times
 are wall-clock medians of ``--repeat`` runs; the figures are ratios against the baseline (and
@@ -116,7 +117,7 @@ def main(argv: list[str] | None = None) -> int:
     from distributed import Client, LocalCluster, wait
 
     import geofeas
-    import geofeas.dask as gd
+    import geofeas.integrations.dask as gd
 
     df = synthetic_picture(args.reports)
     options = {"score": args.score}

@@ -18,7 +18,7 @@ from stonesoup.types.state import GaussianState
 from stonesoup.types.track import Track
 
 import geofeas
-from geofeas.stonesoup import GLRMeasure
+from geofeas.integrations.stonesoup import GLRMeasure
 
 
 def best(fn, repeat: int) -> float:

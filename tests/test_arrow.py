@@ -10,7 +10,7 @@ pq = pytest.importorskip("pyarrow.parquet")
 pd = pytest.importorskip("pandas")
 
 import geofeas  # noqa: E402
-import geofeas.arrow as ga  # noqa: E402
+import geofeas.io.arrow as ga  # noqa: E402
 
 
 def reports(seed: int = 5, ships: int = 12, twin: float | None = None) -> pd.DataFrame:

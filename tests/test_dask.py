@@ -25,7 +25,7 @@ import dask.dataframe as dd  # noqa: E402
 from distributed import WorkerPlugin  # noqa: E402
 
 import geofeas  # noqa: E402
-import geofeas.dask as gd  # noqa: E402
+import geofeas.integrations.dask as gd  # noqa: E402
 from geofeas import GeofeasError  # noqa: E402
 
 # the worker plugin below travels to the worker processes by value
@@ -145,7 +145,7 @@ def assert_same(got, want) -> None:
 
 def components_across_tiles(got, tile) -> int:
     """How many components of the candidate graph have pairs owned by different tiles."""
-    from geofeas._tiling import Grid, owner
+    from geofeas.integrations._tiling import Grid, owner
 
     tr = got.tracks
     dims = sum(1 for c in tr.columns if c.startswith("lo"))
@@ -446,8 +446,8 @@ def test_missing_dask_gives_an_install_hint(monkeypatch):
 
     for name in [m for m in sys.modules if m == "dask" or m.startswith("dask.")]:
         monkeypatch.setitem(sys.modules, name, None)
-    monkeypatch.delitem(sys.modules, "geofeas.dask")
+    monkeypatch.delitem(sys.modules, "geofeas.integrations.dask")
     with pytest.raises(ImportError, match=r"geofeas\[dask\]"):
-        importlib.import_module("geofeas.dask")
+        importlib.import_module("geofeas.integrations.dask")
     monkeypatch.undo()
-    importlib.import_module("geofeas.dask")
+    importlib.import_module("geofeas.integrations.dask")

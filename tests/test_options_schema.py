@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 import geofeas
-import geofeas.dask
+import geofeas.integrations.dask
 from geofeas._core import GeofeasError, association_options
 from geofeas.association import ASSOCIATION_DEFAULTS, OPTIONS, _options_markdown
 from geofeas.cli import associate as _cli_associate
@@ -42,10 +42,10 @@ def test_dask_takes_the_schema_names_and_refuses_others():
         dict(track_id=["a"], source=["ais"], time=[0.0], x=[0.0], y=[0.0], rx=[10.0], ry=[5.0])
     ).assign(phi=0.0)
     with pytest.raises(TypeError, match="not_an_option"):
-        geofeas.dask.associate(one, not_an_option=1)
+        geofeas.integrations.dask.associate(one, not_an_option=1)
     # every schema name is accepted (checked by the engine before any work is distributed)
     with pytest.raises(GeofeasError, match="p_match"):
-        geofeas.dask.associate(one, **{**ASSOCIATION_DEFAULTS, "p_match": 0.2})
+        geofeas.integrations.dask.associate(one, **{**ASSOCIATION_DEFAULTS, "p_match": 0.2})
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -31,7 +31,7 @@ from stonesoup.types.state import GaussianState, State  # noqa: E402
 from stonesoup.types.track import Track  # noqa: E402
 
 import geofeas  # noqa: E402
-from geofeas.stonesoup import (  # noqa: E402
+from geofeas.integrations.stonesoup import (  # noqa: E402
     GLRMeasure,
     OverlapMeasure,
     PosteriorTrackAssociator,
@@ -572,11 +572,11 @@ def test_converter_errors_name_the_problem():
 def test_missing_stonesoup_gives_an_install_hint(monkeypatch):
     for name in [m for m in sys.modules if m == "stonesoup" or m.startswith("stonesoup.")]:
         monkeypatch.setitem(sys.modules, name, None)
-    monkeypatch.delitem(sys.modules, "geofeas.stonesoup")
+    monkeypatch.delitem(sys.modules, "geofeas.integrations.stonesoup")
     with pytest.raises(ImportError, match=r"geofeas\[stonesoup\]"):
-        importlib.import_module("geofeas.stonesoup")
+        importlib.import_module("geofeas.integrations.stonesoup")
     monkeypatch.undo()
-    importlib.import_module("geofeas.stonesoup")
+    importlib.import_module("geofeas.integrations.stonesoup")
 
 
 def test_neglog_stays_in_the_log_domain():

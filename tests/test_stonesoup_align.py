@@ -25,10 +25,10 @@ from stonesoup.types.state import GaussianState  # noqa: E402
 from stonesoup.types.track import Track  # noqa: E402
 
 import geofeas  # noqa: E402
-from geofeas.ais import read_ais  # noqa: E402
 from geofeas.demo import bundled  # noqa: E402
 from geofeas.demo.scenario import simulate  # noqa: E402
-from geofeas.stonesoup import GLRMeasure, align_tracks, reports_to_tracks  # noqa: E402
+from geofeas.integrations.stonesoup import GLRMeasure, align_tracks, reports_to_tracks  # noqa: E402
+from geofeas.io.ais import read_ais  # noqa: E402
 
 T0 = datetime(2024, 5, 1, 12, 0, 0)
 

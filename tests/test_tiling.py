@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from geofeas import GeofeasError
-from geofeas._tiling import Grid, explode, owner
+from geofeas.integrations._tiling import Grid, explode, owner
 
 
 def random_boxes(rng: np.random.Generator, n: int, dims: int):

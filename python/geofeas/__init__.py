@@ -14,7 +14,7 @@ from .association import (
     load_association,
     read_reports,
 )
-from .decisions import read_decisions
+from .association.decisions import read_decisions
 from .scores import (
     DEFAULT_VERTICES,
     SAMPLERS,

@@ -1,7 +1,7 @@
 """The end-to-end demo: a simulated multi-source picture over a real AIS recording, associated and
 scored against the MMSI ground truth (``geofeas demo``).
 
-:func:`run` reads and cleans the recording (:mod:`geofeas.ais`), simulates the sources
+:func:`run` reads and cleans the recording (:mod:`geofeas.io.ais`), simulates the sources
 (:mod:`geofeas.demo.scenario`), associates the reports with the default configuration (and with any
 score and combination rule asked for), scores the association against the truth
 (:mod:`geofeas.demo.evaluate`): the triage, the calibration of ``p_same`` (reliability diagram,
@@ -25,8 +25,8 @@ import pandas as pd
 
 from .._atomic import atomic_path, save_figure, write_text
 from .._core import GeofeasError
-from ..ais import AisRecording, read_ais
 from ..association import COMBINE_RULES, associate, read_reports
+from ..io.ais import AisRecording, read_ais
 from .evaluate import Metrics, evaluate, labels, reliability, simulate_operator, track_table
 from .scenario import Scenario, metres_per_degree, simulate
 

@@ -40,7 +40,7 @@ import numpy as np
 import pandas as pd
 
 from .._core import GeofeasError
-from ..ais import AisRecording
+from ..io.ais import AisRecording
 from ..scores import to_gaussian
 
 __all__ = [

@@ -1,7 +1,7 @@
 """Space-time tiles with per-track halos: every intersecting pair of boxes owned by one tile.
 
-The distributed association (:mod:`geofeas.dask`) cuts the picture into a regular grid of
-space-time tiles. Each track has a closed box ``[lo, hi]`` (its reports' space-time extent
+The distributed association (:mod:`geofeas.integrations.dask`) cuts the picture into a regular
+grid of space-time tiles. Each track has a closed box ``[lo, hi]`` (its reports' space-time extent
 grown by its halo, see :func:`track_boxes`) and is copied, whole, into every tile its box meets
 (:func:`explode`). A pair of tracks whose boxes intersect is *owned* by the tile holding the
 lower corner ``c = max(lo_a, lo_b)`` of the intersection (:func:`owner`). Because ``c`` lies in
@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ._core import GeofeasError
+from .._core import GeofeasError
 
 __all__ = ["Grid", "explode", "owner"]
 
