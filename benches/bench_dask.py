@@ -166,11 +166,11 @@ def main(argv: list[str] | None = None) -> int:
     print("|---|---|---|---|---|---|")
     print(f"| geofeas.associate, one process | {t_single:.2f} | 1.00 | {c_single:.2f} | 1.00 | |")
     print(
-        f"| geofeas.dask, 1 worker | {t1:.2f} | {t1 / t_single:.2f} | {c1:.2f} | "
+        f"| geofeas.integrations.dask, 1 worker | {t1:.2f} | {t1 / t_single:.2f} | {c1:.2f} | "
         f"{c1 / c_single:.2f} | |"
     )
     print(
-        f"| geofeas.dask, 2 workers | {t2:.2f} | {t2 / t_single:.2f} | {c2:.2f} | "
+        f"| geofeas.integrations.dask, 2 workers | {t2:.2f} | {t2 / t_single:.2f} | {c2:.2f} | "
         f"{c2 / c_single:.2f} | {t1 / t2:.2f}x faster |"
     )
     return 0

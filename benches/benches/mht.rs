@@ -10,7 +10,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use geofeas::rng::stream;
-use geofeas::tracking::mht::{Mht, MhtConfig, Scenario};
+use geofeas_tracking::mht::{Mht, MhtConfig, Scenario};
 
 fn bench_scenario(c: &mut Criterion) {
     let scenario = Scenario::paper(2, 3, 4).unwrap();

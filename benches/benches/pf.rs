@@ -12,7 +12,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use geofeas::rng::stream;
-use geofeas::tracking::pf::{track_run, LikelihoodModel, Method, Particles, PfConfig, RunSpec};
+use geofeas_tracking::pf::{track_run, LikelihoodModel, Method, Particles, PfConfig, RunSpec};
 
 fn bench_scenario(c: &mut Criterion) {
     let spec = RunSpec::paper(6.0, 0, 0);
