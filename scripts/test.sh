@@ -17,11 +17,42 @@ export CARGO_PROFILE=ci
 
 echo "== install the test tools"
 "$PY" -m pip install --quiet --disable-pip-version-check "maturin>=1.7,<2"
+# the test extra's requirements (expanded through the extras it names) install in the background
+# while cargo compiles; the wheel's own install below then finds them in place. Without tomllib
+# (Python 3.10) that install does all the work instead.
+deps_log=$(mktemp)
+deps=$("$PY" - <<'PYEOF' || true
+try:
+    import tomllib
+except ImportError:
+    raise SystemExit(0)
+extras = tomllib.load(open("pyproject.toml", "rb"))["project"]["optional-dependencies"]
+
+
+def expand(name):
+    for req in extras[name]:
+        if req.startswith("geofeas["):
+            for e in req[len("geofeas[") : -1].split(","):
+                yield from expand(e.strip())
+        else:
+            yield req
+
+
+print("\n".join(sorted(set(expand("test")))))
+PYEOF
+)
+deps_pid=
+if [ -n "$deps" ]; then
+    printf '%s\n' "$deps" > "$deps_log.req"
+    "$PY" -m pip install --quiet --disable-pip-version-check -r "$deps_log.req" > "$deps_log" 2>&1 &
+    deps_pid=$!
+fi
 
 echo "== cargo fmt --check"
 cargo fmt --all -- --check
 echo "== cargo clippy"
-cargo clippy --workspace --all-targets --all-features -- -D warnings
+# in the test profile, so the build scripts and proc-macros it compiles serve `cargo test` too
+cargo clippy --workspace --all-targets --all-features --profile "$CARGO_PROFILE" -- -D warnings
 echo "== cargo test"
 # the bindings crate has no Rust tests (pytest tests it); it is listed so that features resolve as
 # in the wheel build, which then reuses the core and tracking libraries built here
@@ -31,6 +62,11 @@ echo "== build and install the wheel with the test extras"
 rm -rf dist
 "$PY" -m maturin build --profile "$CARGO_PROFILE" --out dist
 wheel=$(ls dist/geofeas-*.whl)
+if [ -n "$deps_pid" ] && ! wait "$deps_pid"; then
+    cat "$deps_log"
+    echo "installing the test requirements failed" >&2
+    exit 1
+fi
 "$PY" -m pip install --quiet --disable-pip-version-check "${wheel}[test]"
 "$PY" -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps "$wheel"
 
@@ -39,8 +75,11 @@ echo "== typed stubs match the runtime"
 
 echo "== ruff"
 "$PY" -m ruff check python tests benches scripts
+"$PY" -m ruff format --check python tests benches scripts
 
 echo "== pytest"
 # run from a directory without the source tree so the installed wheel is what is tested;
 # pytest exits 5 when it collects nothing, which fails this script.
-"$PY" -m pytest "$PWD/tests" -q -p no:cacheprovider
+# Two workers (pytest-xdist), a test file per worker at a time: the module-scoped fixtures (the
+# demo runs) are computed once, and the demo's file runs beside the rest.
+"$PY" -m pytest "$PWD/tests" -q -p no:cacheprovider -n 2 --dist loadfile
