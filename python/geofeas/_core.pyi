@@ -43,6 +43,8 @@ __all__ = [
     "project_aeqd",
     "ScoreOptions",
     "score_cdist",
+    "score_names",
+    "score_options",
     "score_pairs",
     "to_gaussian",
     "validate_ellipses",
@@ -96,6 +98,8 @@ class ScoreOptions:
         sampler: str | None = None,
     ) -> ScoreOptions: ...
 
+def score_names() -> list[str]: ...
+def score_options() -> list[dict[str, Any]]: ...
 def score_pairs(
     a: NDArray[np.float64],
     b: NDArray[np.float64],
