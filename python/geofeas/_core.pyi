@@ -8,6 +8,8 @@ from numpy.typing import NDArray
 
 __all__ = [
     "GeofeasError",
+    "WGS84_A",
+    "WGS84_F",
     "__version__",
     "assign_one_to_one",
     "associate",
@@ -23,6 +25,8 @@ __all__ = [
     "association_track_summary",
     "combine_instants",
     "from_gaussian",
+    "geodesic_direct",
+    "geodesic_inverse",
     "intersection_area",
     "MhtTracker",
     "mht_metric_names",
@@ -43,6 +47,8 @@ __all__ = [
     "project_aeqd",
     "ScoreOptions",
     "score_cdist",
+    "score_names",
+    "score_options",
     "score_pairs",
     "to_gaussian",
     "validate_ellipses",
@@ -96,6 +102,8 @@ class ScoreOptions:
         sampler: str | None = None,
     ) -> ScoreOptions: ...
 
+def score_names() -> list[str]: ...
+def score_options() -> list[dict[str, Any]]: ...
 def score_pairs(
     a: NDArray[np.float64],
     b: NDArray[np.float64],
@@ -232,6 +240,21 @@ def association_states_at(
     *,
     alignment: Mapping[str, float],
 ) -> dict[str, NDArray[Any]]: ...
+WGS84_A: float
+WGS84_F: float
+
+def geodesic_inverse(
+    lat1: NDArray[np.float64],
+    lon1: NDArray[np.float64],
+    lat2: NDArray[np.float64],
+    lon2: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
+def geodesic_direct(
+    lat1: NDArray[np.float64],
+    lon1: NDArray[np.float64],
+    azi1: NDArray[np.float64],
+    s12: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
 def project_aeqd(aou: NDArray[np.float64], origin: tuple[float, float]) -> NDArray[np.float64]: ...
 def association_pair_stats(
     reports: _ReportColumns,

@@ -33,6 +33,9 @@ from ._core import GeofeasError
 __all__ = [
     "DEFAULT_VERTICES",
     "SAMPLERS",
+    "SCORE_DEFAULTS",
+    "SCORE_NAMES",
+    "SCORE_OPTIONS",
     "bhattacharyya",
     "cdist",
     "from_gaussian",
@@ -45,25 +48,34 @@ __all__ = [
     "to_gaussian",
 ]
 
+#: The options of the scores, defined once in the core (``score::schema``): dicts of ``name``,
+#: ``default``, ``kind`` (``"bool"``, ``"int"`` or ``"text"``), ``choices``, ``range`` (``(min,
+#: max)`` of an integer, or ``None``), ``help`` and ``scores`` (the scores that take it). The
+#: keyword defaults of the functions below, the options the association passes to its score and
+#: the flags of ``geofeas score`` are these (``tests/test_score_schema.py``).
+SCORE_OPTIONS: tuple[dict[str, Any], ...] = tuple(_core.score_options())
+_SPEC = {o["name"]: o for o in SCORE_OPTIONS}
+#: The defaults of the score options, from :data:`SCORE_OPTIONS`.
+SCORE_DEFAULTS: dict[str, Any] = {o["name"]: o["default"] for o in SCORE_OPTIONS}
+
 #: Default polygon resolution of ``overlap(..., method="polygon")`` (``|g - g_true| <= 1e-4`` on
 #: typical pairs).
-DEFAULT_VERTICES = 256
+DEFAULT_VERTICES: int = int(SCORE_DEFAULTS["vertices"])
 
 #: Samplers of :func:`monte_carlo`.
-SAMPLERS = ("importance", "uniform", "sobol")
+SAMPLERS: tuple[str, ...] = tuple(_SPEC["sampler"]["choices"])
 
+#: The names of the scores (the core's ``score::schema::score_names``).
+SCORE_NAMES: tuple[str, ...] = tuple(_core.score_names())
 ScoreName = Literal[
     "glr", "overlap", "monte_carlo", "bhattacharyya", "hellinger", "gaussian_product"
 ]
+#: The options each score takes (the others are refused), from :data:`SCORE_OPTIONS`.
 _OPTIONS: dict[str, frozenset[str]] = {
-    "glr": frozenset({"threshold"}),
-    "overlap": frozenset({"vertices", "method"}),
-    "monte_carlo": frozenset({"samples", "seed", "sampler"}),
-    "bhattacharyya": frozenset(),
-    "hellinger": frozenset(),
-    "gaussian_product": frozenset(),
+    score: frozenset(o["name"] for o in SCORE_OPTIONS if score in o["scores"])
+    for score in SCORE_NAMES
 }
-_METHODS = ("exact", "polygon")
+_METHODS: tuple[str, ...] = tuple(_SPEC["method"]["choices"])
 
 
 def _seed(seed: int | None) -> int:
@@ -109,7 +121,7 @@ def _options(score: str, options: dict[str, Any]) -> dict[str, Any]:
     if "threshold" in options:
         out["threshold"] = bool(options["threshold"])
     if "vertices" in options:
-        out["vertices"] = _count(options["vertices"], "vertices", 8)
+        out["vertices"] = _count(options["vertices"], "vertices", _SPEC["vertices"]["range"][0])
     if "method" in options:
         if options["method"] not in _METHODS:
             raise GeofeasError(
@@ -123,7 +135,7 @@ def _options(score: str, options: dict[str, Any]) -> dict[str, Any]:
             )
         out["sampler"] = str(options["sampler"])
     if "samples" in options:
-        out["samples"] = _count(options["samples"], "samples", 1)
+        out["samples"] = _count(options["samples"], "samples", _SPEC["samples"]["range"][0])
     if score == "monte_carlo":
         out["seed"] = _seed(options.get("seed"))
     return out

@@ -515,6 +515,63 @@ fn project_aeqd<'py>(
     Ok(flat.into_pyarray(py).reshape([n, 5])?.into_any())
 }
 
+/// The geodesics (WGS84) from `(lat1, lon1)` to `(lat2, lon2)`, row by row: lengths `s12` (m)
+/// and azimuths `azi1` at the first points, `azi2` (forward) at the second (degrees clockwise
+/// from north) (`crate::association::geodesy::inverse_rows`).
+#[pyfunction]
+fn geodesic_inverse<'py>(
+    py: Python<'py>,
+    lat1: PyReadonlyArray1<'py, f64>,
+    lon1: PyReadonlyArray1<'py, f64>,
+    lat2: PyReadonlyArray1<'py, f64>,
+    lon2: PyReadonlyArray1<'py, f64>,
+) -> PyResult<GeodesicColumns<'py>> {
+    let (a, b, c, d) = (
+        slice("lat1", &lat1)?,
+        slice("lon1", &lon1)?,
+        slice("lat2", &lat2)?,
+        slice("lon2", &lon2)?,
+    );
+    let rows = detached(py, || association::geodesy::inverse_rows(a, b, c, d))?;
+    Ok(columns3(py, rows))
+}
+
+/// The ends `(lat2, lon2)` (longitude in `[-180, 180)`) of the geodesics (WGS84) of lengths `s12`
+/// (m) leaving `(lat1, lon1)` at azimuths `azi1` (degrees clockwise from north), and their forward
+/// azimuths `azi2` there (`crate::association::geodesy::direct_rows`).
+#[pyfunction]
+fn geodesic_direct<'py>(
+    py: Python<'py>,
+    lat1: PyReadonlyArray1<'py, f64>,
+    lon1: PyReadonlyArray1<'py, f64>,
+    azi1: PyReadonlyArray1<'py, f64>,
+    s12: PyReadonlyArray1<'py, f64>,
+) -> PyResult<GeodesicColumns<'py>> {
+    let (a, b, c, d) = (
+        slice("lat1", &lat1)?,
+        slice("lon1", &lon1)?,
+        slice("azi1", &azi1)?,
+        slice("s12", &s12)?,
+    );
+    let rows = detached(py, || association::geodesy::direct_rows(a, b, c, d))?;
+    Ok(columns3(py, rows))
+}
+
+type GeodesicColumns<'py> = (
+    Bound<'py, numpy::PyArray1<f64>>,
+    Bound<'py, numpy::PyArray1<f64>>,
+    Bound<'py, numpy::PyArray1<f64>>,
+);
+
+fn columns3(py: Python<'_>, rows: Vec<[f64; 3]>) -> GeodesicColumns<'_> {
+    let column = |k: usize| rows.iter().map(|r| r[k]).collect::<Vec<f64>>();
+    (
+        column(0).into_pyarray(py),
+        column(1).into_pyarray(py),
+        column(2).into_pyarray(py),
+    )
+}
+
 /// The options of `geofeas.associate`, defined once in the core (`association::schema`): a
 /// list of dicts `name`, `default`, `choices`, `help`, in signature order.
 #[pyfunction]
@@ -548,5 +605,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(association_pair_instants, m)?)?;
     m.add_function(wrap_pyfunction!(association_states_at, m)?)?;
     m.add_function(wrap_pyfunction!(project_aeqd, m)?)?;
+    m.add_function(wrap_pyfunction!(geodesic_inverse, m)?)?;
+    m.add_function(wrap_pyfunction!(geodesic_direct, m)?)?;
+    m.add("WGS84_A", association::geodesy::WGS84_A)?;
+    m.add("WGS84_F", association::geodesy::WGS84_F)?;
     Ok(())
 }

@@ -237,8 +237,41 @@ fn intersection_area<'py>(
     Ok(out.into_pyarray(py))
 }
 
+/// The names of the scores (`crate::score::schema::score_names`).
+#[pyfunction]
+fn score_names() -> Vec<&'static str> {
+    crate::score::schema::score_names()
+}
+
+/// The options of the scores, defined once in the core (`crate::score::schema`): a list of dicts
+/// `name`, `default`, `kind`, `choices`, `range` (`(min, max)` or `None`), `help`, `scores`.
+#[pyfunction]
+fn score_options(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict>>> {
+    use crate::score::schema::{options, Value};
+    options()
+        .into_iter()
+        .map(|o| {
+            let d = pyo3::types::PyDict::new(py);
+            d.set_item("name", o.name)?;
+            d.set_item("kind", o.default.kind())?;
+            match o.default {
+                Value::Bool(v) => d.set_item("default", v)?,
+                Value::Int(v) => d.set_item("default", v)?,
+                Value::Text(v) => d.set_item("default", v)?,
+            }
+            d.set_item("choices", o.choices)?;
+            d.set_item("range", o.range)?;
+            d.set_item("help", o.help)?;
+            d.set_item("scores", o.scores)?;
+            Ok(d)
+        })
+        .collect()
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<ScoreOptions>()?;
+    m.add_function(wrap_pyfunction!(score_names, m)?)?;
+    m.add_function(wrap_pyfunction!(score_options, m)?)?;
     m.add_function(wrap_pyfunction!(intersection_area, m)?)?;
     m.add_function(wrap_pyfunction!(score_pairs, m)?)?;
     m.add_function(wrap_pyfunction!(score_cdist, m)?)?;

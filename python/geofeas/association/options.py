@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 
 from .. import _core
 from .._core import GeofeasError
+from ..scores import _OPTIONS, SCORE_DEFAULTS, SCORE_OPTIONS
 
 __all__ = ["ASSOCIATION_DEFAULTS", "COMBINE_RULES", "DEFAULT_UPPER", "OPTIONS", "SCORES"]
 
@@ -28,7 +29,8 @@ SCORES: tuple[str, ...] = _CHOICES["score"]
 #: column's scale; the classes come from the posterior).
 DEFAULT_UPPER: float = _core.association_default_upper()
 
-_SCORE_OPTIONS = ("threshold", "method", "vertices", "samples", "seed", "sampler")
+#: The options of the score column's score (``geofeas.scores.SCORE_OPTIONS``, from the core).
+_SCORE_OPTIONS = tuple(o["name"] for o in SCORE_OPTIONS)
 
 
 def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, Any]]:
@@ -43,8 +45,6 @@ def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, 
         raise GeofeasError(f"score: unknown score {score!r} (expected one of {SCORES})")
     if opts.get("seed") is None:
         opts.pop("seed", None)
-    from ..scores import _OPTIONS
-
     misplaced = sorted(set(opts) - _OPTIONS[score])
     if misplaced:
         err = GeofeasError(
@@ -74,9 +74,8 @@ def _options_markdown() -> str:
     return "\n".join(rows) + "\n"
 
 
-_SCORE_DEFAULTS: dict[str, Any] = dict(
-    threshold=False, method="exact", vertices=256, samples=500, seed=0, sampler="importance"
-)
+#: The score options the engine receives when the caller gives none (the core's defaults).
+_SCORE_DEFAULTS: dict[str, Any] = dict(SCORE_DEFAULTS)
 
 
 def _resolve_options(

@@ -26,6 +26,7 @@ from ..association import (
     read_reports,
     write_tables,
 )
+from ..scores import SCORE_DEFAULTS
 
 #: The columns of the pairs file.
 PAIR_COLUMNS = ("track_a", "track_b", "score", "instants", "class", "p_same", "review_rank")
@@ -142,7 +143,12 @@ def add_parser(sub: Any) -> None:
         default=None,
         help="overlap by polygons of this many vertices (default: the exact overlap)",
     )
-    scores.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per instant")
-    scores.add_argument("--seed", type=int, default=0, help="Monte-Carlo seed")
+    scores.add_argument(
+        "--samples",
+        type=int,
+        default=SCORE_DEFAULTS["samples"],
+        help="Monte-Carlo samples per instant",
+    )
+    scores.add_argument("--seed", type=int, default=SCORE_DEFAULTS["seed"], help="Monte-Carlo seed")
     p.add_argument("--quiet", "-q", action="store_true", help="no summary on standard output")
     p.set_defaults(func=run)

@@ -21,8 +21,9 @@ import numpy as np
 from .._atomic import atomic_open
 from .._core import GeofeasError
 from ..scores import (
-    DEFAULT_VERTICES,
-    SAMPLERS,
+    SCORE_DEFAULTS,
+    SCORE_NAMES,
+    SCORE_OPTIONS,
     bhattacharyya,
     gaussian_product,
     glr,
@@ -33,16 +34,14 @@ from ..scores import (
 
 FIELDS = ("x0", "y0", "rx", "ry", "phi")
 COLUMNS = tuple(f"{side}_{f}" for side in "ab" for f in FIELDS)
-SCORES = (
-    "glr",
-    "glr_threshold",
-    "overlap",
-    "overlap_polygon",
-    "monte_carlo",
-    "bhattacharyya",
-    "hellinger",
-    "gaussian_product",
-)
+#: Columns of a score with one option fixed: the thresholded GLR, the polygon overlap.
+ALIASES = {"glr": ("glr_threshold",), "overlap": ("overlap_polygon",)}
+#: The columns ``--score`` computes: the core's scores (``geofeas.scores.SCORE_NAMES``), each
+#: followed by its aliases.
+SCORES = tuple(c for s in SCORE_NAMES for c in (s, *ALIASES.get(s, ())))
+#: The score options that are flags (``--name``), from the core's schema
+#: (``geofeas.scores.SCORE_OPTIONS``); ``threshold`` is the column ``glr_threshold``.
+FLAGS = tuple(o for o in SCORE_OPTIONS if o["name"] != "threshold")
 #: What ``--score`` computes when it is not given.
 DEFAULT_SCORES = ("glr", "glr_threshold", "overlap", "monte_carlo")
 
@@ -98,8 +97,8 @@ def score_all(
     vertices: int,
     samples: int,
     seed: int | None,
-    method: str = "exact",
-    sampler: str = "importance",
+    method: str = SCORE_DEFAULTS["method"],
+    sampler: str = SCORE_DEFAULTS["sampler"],
 ) -> dict[str, np.ndarray]:
     a, b = data[:, :5], data[:, 5:]
     out: dict[str, np.ndarray] = {}
@@ -153,6 +152,38 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _bound(v: int) -> str:
+    return f"2^{v.bit_length() - 1}" if v >= 1024 and v & (v - 1) == 0 else str(v)
+
+
+def options_markdown() -> str:
+    """The score options table of ``README.md``, rendered from the core's schema
+    (``python scripts/options_doc.py`` writes it; ``tests/test_score_schema.py`` checks it)."""
+    rows = [
+        "| option | default | taken by | `geofeas score` | meaning |",
+        "|---|---|---|---|---|",
+    ]
+    for o in SCORE_OPTIONS:
+        flag = "--" + o["name"].replace("_", "-") if o in FLAGS else "--score glr_threshold"
+        allowed = ""
+        if o["choices"]:
+            allowed = f" (one of {', '.join(o['choices'])})"
+        elif o["range"]:
+            allowed = f" (in [{_bound(o['range'][0])}, {_bound(o['range'][1])}])"
+        scores = ", ".join(f"`{s}`" for s in o["scores"])
+        rows.append(
+            f"| `{o['name']}` | `{o['default']!r}` | {scores} | `{flag}` | {o['help']}{allowed} |"
+        )
+    return "\n".join(rows) + "\n"
+
+
+#: What a flag changes in the columns, beside the option's meaning.
+_NOTES = {
+    "method": "; of the 'overlap' column",
+    "vertices": "; of overlap_polygon and of overlap with --method polygon",
+}
+
+
 def add_parser(sub: Any) -> None:
     p = sub.add_parser(
         "score",
@@ -168,19 +199,16 @@ def add_parser(sub: Any) -> None:
         choices=SCORES,
         help="score to compute (repeatable; default: " + ", ".join(DEFAULT_SCORES) + ")",
     )
-    p.add_argument(
-        "--method",
-        choices=("exact", "polygon"),
-        default="exact",
-        help="method of the 'overlap' column (default exact)",
-    )
-    p.add_argument(
-        "--vertices",
-        type=int,
-        default=DEFAULT_VERTICES,
-        help="polygon resolution (overlap_polygon, --method polygon)",
-    )
-    p.add_argument("--sampler", choices=SAMPLERS, default="importance", help="Monte-Carlo sampler")
-    p.add_argument("--samples", type=int, default=500, help="Monte-Carlo samples per pair")
-    p.add_argument("--seed", type=int, default=0, help="Monte-Carlo seed")
+    options = p.add_argument_group("score options (the keywords of geofeas.overlap, .monte_carlo)")
+    for o in FLAGS:
+        flag = "--" + o["name"].replace("_", "-")
+        note = _NOTES.get(o["name"], "")
+        help = f"{o['help']}{note} (default {o['default']})"
+        if o["kind"] == "bool":
+            options.add_argument(flag, action="store_true", default=o["default"], help=help)
+        elif o["choices"]:
+            options.add_argument(flag, choices=o["choices"], default=o["default"], help=help)
+        else:
+            kind = int if o["kind"] == "int" else str
+            options.add_argument(flag, type=kind, default=o["default"], help=help)
     p.set_defaults(func=run)

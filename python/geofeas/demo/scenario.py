@@ -39,9 +39,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from .. import _core
 from .._core import GeofeasError
 from ..io.ais import AisRecording
-from ..scores import to_gaussian
+from ..scores import from_gaussian, to_gaussian
 
 __all__ = [
     "AisSensor",
@@ -58,9 +59,8 @@ __all__ = [
 
 REPORT_COLUMNS = ("track_id", "source", "time", "lat", "lon", "rx", "ry", "bearing", "mmsi")
 
-_A, _F = 6_378_137.0, 1 / 298.257223563  # WGS84
+_A, _F = _core.WGS84_A, _core.WGS84_F  # WGS84, from the core's geodesy
 _E2 = _F * (2 - _F)
-_SPHERE = 6_371_008.8
 
 
 # ----------------------------------------------------------------------------------- geometry
@@ -80,33 +80,40 @@ def metres_per_degree(lat: Any) -> tuple[np.ndarray, np.ndarray]:
     return np.radians(1.0) * m, np.radians(1.0) * n * np.cos(p)
 
 
+def _columns(*values: Any) -> tuple[tuple[int, ...], list[np.ndarray]]:
+    """The broadcast shape of ``values`` and each as a contiguous float64 column."""
+    arrays = np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in values))
+    return arrays[0].shape, [np.ascontiguousarray(a).ravel() for a in arrays]
+
+
+def _direct(lat: Any, lon: Any, azi: Any, dist: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The ends of the WGS84 geodesics of ``dist`` metres leaving ``(lat, lon)`` at azimuth
+    ``azi`` (degrees clockwise from north), broadcast (the core's ``geodesic_direct``)."""
+    shape, cols = _columns(lat, lon, azi, dist)
+    la, lo, _ = _core.geodesic_direct(*cols)
+    return la.reshape(shape), lo.reshape(shape)
+
+
 def _offset(lat: np.ndarray, lon: np.ndarray, de: np.ndarray, dn: np.ndarray) -> tuple[Any, Any]:
-    """``(lat, lon)`` moved by ``de`` metres east and ``dn`` metres north (local, small offsets)."""
-    m_lat, m_lon = metres_per_degree(lat)
-    return lat + dn / m_lat, lon + de / m_lon
+    """``(lat, lon)`` moved by ``de`` metres east and ``dn`` metres north: along the geodesic of
+    length ``hypot(de, dn)`` and azimuth ``atan2(de, dn)``."""
+    de, dn = np.asarray(de, dtype=np.float64), np.asarray(dn, dtype=np.float64)
+    return _direct(lat, lon, np.degrees(np.arctan2(de, dn)), np.hypot(de, dn))
 
 
 def _destination(lat: float, lon: float, bearing_deg: float, dist: float) -> tuple[float, float]:
-    """Point ``dist`` metres from ``(lat, lon)`` along the great circle of initial bearing."""
-    p1, l1, b = np.radians(lat), np.radians(lon), np.radians(bearing_deg)
-    d = dist / _SPHERE
-    p2 = np.arcsin(np.sin(p1) * np.cos(d) + np.cos(p1) * np.sin(d) * np.cos(b))
-    l2 = l1 + np.arctan2(np.sin(b) * np.sin(d) * np.cos(p1), np.cos(d) - np.sin(p1) * np.sin(p2))
-    return float(np.degrees(p2)), float((np.degrees(l2) + 540) % 360 - 180)
+    """Point ``dist`` metres from ``(lat, lon)`` along the geodesic of initial bearing."""
+    la, lo = _direct(lat, lon, bearing_deg, dist)
+    return float(la), float(lo)
 
 
 def _range_bearing(lat1: Any, lon1: Any, lat2: Any, lon2: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Great-circle range (m) from point 1 to point 2 and the bearing of the line of sight *at
-    point 2* (degrees clockwise from north, pointing away from point 1)."""
-    p1, p2 = np.radians(lat1), np.radians(lat2)
-    dl = np.radians(np.asarray(lon2) - np.asarray(lon1))
-    h = np.sin((p2 - p1) / 2) ** 2 + np.cos(p1) * np.cos(p2) * np.sin(dl / 2) ** 2
-    rng = 2 * _SPHERE * np.arcsin(np.sqrt(np.clip(h, 0, 1)))
-    # final bearing = reverse of the initial bearing from 2 to 1
-    y = np.sin(-dl) * np.cos(p1)
-    x = np.cos(p2) * np.sin(p1) - np.sin(p2) * np.cos(p1) * np.cos(-dl)
-    back = np.degrees(np.arctan2(y, x))
-    return rng, (back + 180.0) % 360.0
+    """Geodesic range (m) from point 1 to point 2 and the bearing of the line of sight *at
+    point 2* (degrees in ``[0, 360)`` clockwise from north, pointing away from point 1): the
+    WGS84 geodesic's length and forward azimuth at point 2 (the core's ``geodesic_inverse``)."""
+    shape, cols = _columns(lat1, lon1, lat2, lon2)
+    s12, _, azi2 = _core.geodesic_inverse(*cols)
+    return s12.reshape(shape), (azi2 % 360.0).reshape(shape)
 
 
 def covariance_from_aou(rx: Any, ry: Any, bearing_deg: Any) -> np.ndarray:
@@ -125,11 +132,14 @@ def covariance_from_aou(rx: Any, ry: Any, bearing_deg: Any) -> np.ndarray:
 
 def aou_from_covariance(cov: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """2-sigma semi-axes ``rx >= ry`` and the bearing (degrees in ``[0, 180)``) of the ``rx``
-    axis of east/north covariances ``(..., 2, 2)``."""
-    w, vec = np.linalg.eigh(cov)
-    major = vec[..., :, 1]  # eigenvector of the largest eigenvalue: (east, north)
-    bearing = np.degrees(np.arctan2(major[..., 0], major[..., 1])) % 180.0
-    return 2 * np.sqrt(w[..., 1]), 2 * np.sqrt(np.maximum(w[..., 0], 0.0)), bearing
+    axis of east/north covariances ``(..., 2, 2)`` (positive definite): the core's
+    :func:`geofeas.from_gaussian` (eqs. 56-59), the inverse of :func:`covariance_from_aou`."""
+    cov = np.asarray(cov, dtype=np.float64)
+    shape = cov.shape[:-2]
+    flat = cov.reshape(-1, 2, 2)
+    e = from_gaussian(np.zeros((len(flat), 2)), flat)
+    bearing = np.degrees(e[:, 4]) % 180.0
+    return e[:, 2].reshape(shape), e[:, 3].reshape(shape), bearing.reshape(shape)
 
 
 def _draw(rng: np.random.Generator, rx: np.ndarray, ry: np.ndarray, bearing: np.ndarray) -> Any:

@@ -172,6 +172,108 @@ pub fn project_aeqd(origin: [f64; 2], rows: &[[f64; 5]]) -> crate::Result<Vec<[f
     Ok(out)
 }
 
+/// The geodesic from `a` to `b` (`[lat, lon]`, degrees): its length `s12` (m), its azimuth
+/// `azi1` at `a` and its forward azimuth `azi2` at `b` (degrees clockwise from north, in
+/// `[-180, 180]`).
+pub fn inverse(a: [f64; 2], b: [f64; 2]) -> (f64, f64, f64) {
+    let (s12, azi1, azi2, _a12): (f64, f64, f64, f64) = wgs84().inverse(a[0], a[1], b[0], b[1]);
+    (s12, azi1, azi2)
+}
+
+/// The end `[lat, lon]` (longitude in `[-180, 180)`) of the geodesic of length `s12` metres
+/// leaving `a` at azimuth `azi1` (degrees clockwise from north), and its forward azimuth there.
+pub fn direct(a: [f64; 2], azi1: f64, s12: f64) -> ([f64; 2], f64) {
+    let (lat, lon, azi2): (f64, f64, f64) = wgs84().direct(a[0], a[1], azi1, s12);
+    ([lat, wrap_lon(lon)], azi2)
+}
+
+/// Checks the columns of a batch of points: equal lengths, finite values, latitudes in
+/// `[-90, 90]`; errors name the row and the column.
+fn check_columns(what: &'static str, columns: [(&'static str, &[f64]); 4]) -> crate::Result<()> {
+    use crate::error::Error;
+    let n = columns[0].1.len();
+    if columns.iter().any(|(_, c)| c.len() != n) {
+        return Err(Error::Shape {
+            what,
+            expected: "four columns of one length".into(),
+            got: format!("{:?}", columns.map(|(_, c)| c.len())),
+        });
+    }
+    for (field, column) in columns {
+        for (row, &value) in column.iter().enumerate() {
+            if !value.is_finite() {
+                return Err(Error::NonFinite {
+                    what,
+                    row,
+                    field,
+                    value,
+                });
+            }
+            if field.starts_with("lat") && value.abs() > 90.0 {
+                return Err(Error::OutOfDomain {
+                    what,
+                    row,
+                    field,
+                    value,
+                    reason: "latitude must be in [-90, 90]",
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// [`inverse`] of every row `k` of the columns: `[s12, azi1, azi2]` of the geodesic from
+/// `(lat1[k], lon1[k])` to `(lat2[k], lon2[k])`, computed in parallel.
+pub fn inverse_rows(
+    lat1: &[f64],
+    lon1: &[f64],
+    lat2: &[f64],
+    lon2: &[f64],
+) -> crate::Result<Vec<[f64; 3]>> {
+    use rayon::prelude::*;
+    check_columns(
+        "points",
+        [
+            ("lat1", lat1),
+            ("lon1", lon1),
+            ("lat2", lat2),
+            ("lon2", lon2),
+        ],
+    )?;
+    Ok((0..lat1.len())
+        .into_par_iter()
+        .with_min_len(256)
+        .map(|k| {
+            let (s12, azi1, azi2) = inverse([lat1[k], lon1[k]], [lat2[k], lon2[k]]);
+            [s12, azi1, azi2]
+        })
+        .collect())
+}
+
+/// [`direct`] of every row `k` of the columns: `[lat2, lon2, azi2]` at the end of the geodesic
+/// of length `s12[k]` leaving `(lat1[k], lon1[k])` at azimuth `azi1[k]`, computed in parallel.
+pub fn direct_rows(
+    lat1: &[f64],
+    lon1: &[f64],
+    azi1: &[f64],
+    s12: &[f64],
+) -> crate::Result<Vec<[f64; 3]>> {
+    use rayon::prelude::*;
+    check_columns(
+        "points",
+        [("lat1", lat1), ("lon1", lon1), ("azi1", azi1), ("s12", s12)],
+    )?;
+    Ok((0..lat1.len())
+        .into_par_iter()
+        .with_min_len(256)
+        .map(|k| {
+            let ([lat, lon], azi2) = direct([lat1[k], lon1[k]], azi1[k], s12[k]);
+            [lat, lon, azi2]
+        })
+        .collect())
+}
+
 /// WGS84 Earth-centred Earth-fixed coordinates (m) of a point at height 0.
 pub fn ecef(lat: f64, lon: f64) -> [f64; 3] {
     let e2 = WGS84_F * (2.0 - WGS84_F);
@@ -237,6 +339,32 @@ mod tests {
                 assert!((d[0] - en[0]).abs() < 1e-6 && (d[1] - en[1]).abs() < 1e-6);
             }
         }
+    }
+
+    #[test]
+    fn direct_inverts_inverse_in_rows() {
+        let (lat1, lon1) = ([50.0, -33.0, 0.0], [-1.0, 179.5, 10.0]);
+        let (lat2, lon2) = ([50.2, -33.4, 0.0], [-0.7, -179.8, 10.0]);
+        let inv = inverse_rows(&lat1, &lon1, &lat2, &lon2).unwrap();
+        assert_eq!(inv[2][0], 0.0);
+        let azi: Vec<f64> = inv.iter().map(|r| r[1]).collect();
+        let s: Vec<f64> = inv.iter().map(|r| r[0]).collect();
+        let dir = direct_rows(&lat1, &lon1, &azi, &s).unwrap();
+        for k in 0..3 {
+            assert!((dir[k][0] - lat2[k]).abs() < 1e-12, "{k}");
+            assert!(wrap_lon(dir[k][1] - lon2[k]).abs() < 1e-12, "{k}");
+            if k < 2 {
+                assert!((dir[k][2] - inv[k][2]).abs() < 1e-9, "{k}");
+            }
+        }
+        // on the equator, due east: a quarter of the equator is a quarter of 2 pi a
+        let ([lat, lon], azi2) = direct([0.0, 0.0], 90.0, std::f64::consts::FRAC_PI_2 * WGS84_A);
+        assert!(lat.abs() < 1e-12 && (lon - 90.0).abs() < 1e-9 && (azi2 - 90.0).abs() < 1e-12);
+        let bad = inverse_rows(&[91.0], &[0.0], &[0.0], &[0.0]).unwrap_err();
+        assert_eq!((bad.row(), bad.field()), (Some(0), Some("lat1")));
+        let bad = direct_rows(&[0.0, 0.0], &[0.0, 0.0], &[0.0, 0.0], &[1.0, f64::NAN]);
+        assert_eq!(bad.unwrap_err().field(), Some("s12"));
+        assert!(direct_rows(&[0.0], &[0.0, 1.0], &[0.0], &[0.0]).is_err());
     }
 
     #[test]

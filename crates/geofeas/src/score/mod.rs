@@ -17,6 +17,7 @@ pub mod gaussian;
 pub mod glr;
 pub mod monte_carlo;
 pub mod polygon;
+pub mod schema;
 pub mod spec;
 
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -51,6 +51,10 @@ pub const SCORE_NAMES: [&str; 6] = [
     "gaussian_product",
 ];
 
+/// Methods of the `"overlap"` score ([`Options::method`]): the analytic intersection or the
+/// equal-area polygons.
+pub const METHOD_NAMES: [&str; 2] = ["exact", "polygon"];
+
 /// One of the crate's scores, chosen at run time.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Score {
@@ -88,7 +92,7 @@ impl Score {
                 other => Err(Error::InvalidOption {
                     name: "method",
                     reason: format!(
-                        "unknown overlap method '{other}' (expected 'exact' or 'polygon')"
+                        "unknown overlap method '{other}' (expected one of {METHOD_NAMES:?})"
                     ),
                 }),
             },
