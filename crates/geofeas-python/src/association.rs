@@ -517,7 +517,7 @@ fn project_aeqd<'py>(
 
 /// The geodesics (WGS84) from `(lat1, lon1)` to `(lat2, lon2)`, row by row: lengths `s12` (m)
 /// and azimuths `azi1` at the first points, `azi2` (forward) at the second (degrees clockwise
-/// from north) (`crate::association::geodesy::inverse_rows`).
+/// from north) (`geofeas::association::geodesy::inverse_rows`).
 #[pyfunction]
 fn geodesic_inverse<'py>(
     py: Python<'py>,
@@ -538,7 +538,7 @@ fn geodesic_inverse<'py>(
 
 /// The ends `(lat2, lon2)` (longitude in `[-180, 180)`) of the geodesics (WGS84) of lengths `s12`
 /// (m) leaving `(lat1, lon1)` at azimuths `azi1` (degrees clockwise from north), and their forward
-/// azimuths `azi2` there (`crate::association::geodesy::direct_rows`).
+/// azimuths `azi2` there (`geofeas::association::geodesy::direct_rows`).
 #[pyfunction]
 fn geodesic_direct<'py>(
     py: Python<'py>,

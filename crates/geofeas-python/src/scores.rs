@@ -237,17 +237,17 @@ fn intersection_area<'py>(
     Ok(out.into_pyarray(py))
 }
 
-/// The names of the scores (`crate::score::schema::score_names`).
+/// The names of the scores (`geofeas::score::schema::score_names`).
 #[pyfunction]
 fn score_names() -> Vec<&'static str> {
-    crate::score::schema::score_names()
+    geofeas::score::schema::score_names()
 }
 
-/// The options of the scores, defined once in the core (`crate::score::schema`): a list of dicts
+/// The options of the scores, defined once in the core (`geofeas::score::schema`): a list of dicts
 /// `name`, `default`, `kind`, `choices`, `range` (`(min, max)` or `None`), `help`, `scores`.
 #[pyfunction]
 fn score_options(py: Python<'_>) -> PyResult<Vec<Bound<'_, pyo3::types::PyDict>>> {
-    use crate::score::schema::{options, Value};
+    use geofeas::score::schema::{options, Value};
     options()
         .into_iter()
         .map(|o| {
