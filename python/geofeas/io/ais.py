@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from .. import _core
 from .._core import GeofeasError
 
 __all__ = ["AIS_SCHEMAS", "FIELD_ALIASES", "AisRecording", "read_ais"]
@@ -59,7 +60,6 @@ AIS_SCHEMAS: dict[str, dict[str, str]] = {
 }
 
 KNOT = 1852.0 / 3600.0  # m/s
-_EARTH_RADIUS = 6_371_008.8  # mean radius, m (haversine distances for the jump test)
 
 
 @dataclass
@@ -193,18 +193,17 @@ def _times(frame: pd.DataFrame, column: str, source: str) -> np.ndarray:
     return ((parsed - epoch) / pd.Timedelta(seconds=1)).to_numpy(dtype=np.float64)
 
 
-def haversine(lat1: Any, lon1: Any, lat2: Any, lon2: Any) -> np.ndarray:
-    """Great-circle distance in metres on the mean sphere (vectorised, degrees in)."""
-    p1, p2 = np.radians(lat1), np.radians(lat2)
-    dp, dl = p2 - p1, np.radians(np.asarray(lon2) - np.asarray(lon1))
-    h = np.sin(dp / 2) ** 2 + np.cos(p1) * np.cos(p2) * np.sin(dl / 2) ** 2
-    return np.asarray(2 * _EARTH_RADIUS * np.arcsin(np.sqrt(np.clip(h, 0.0, 1.0))))
+def _distance(lat1: Any, lon1: Any, lat2: Any, lon2: Any) -> np.ndarray:
+    """Geodesic distance in metres on the WGS84 ellipsoid (the core's geodesy; degrees in)."""
+    args = [np.atleast_1d(np.asarray(v, dtype=np.float64)) for v in (lat1, lon1, lat2, lon2)]
+    s12, _, _ = _core.geodesic_inverse(*np.broadcast_arrays(*args))
+    return np.asarray(s12)
 
 
 def _reachable(
     lat: np.ndarray, lon: np.ndarray, t: np.ndarray, i: int, j: int, vmax: float, slack: float
 ) -> bool:
-    d = float(haversine(lat[i], lon[i], lat[j], lon[j]))
+    d = float(_distance(lat[i], lon[i], lat[j], lon[j])[0])
     return d <= vmax * abs(t[j] - t[i]) + slack
 
 
@@ -221,7 +220,7 @@ def _consistent(
     keep = np.ones(n, dtype=bool)
     if n < 2:
         return keep
-    d = haversine(lat[:-1], lon[:-1], lat[1:], lon[1:])
+    d = _distance(lat[:-1], lon[:-1], lat[1:], lon[1:])
     jump = d > vmax * np.diff(t) + slack
     if not jump.any():
         return keep
