@@ -7,7 +7,9 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use super::association::{AlignmentArgs, AssociationArgs, DecisionsArg, ReportsArg};
+use super::association::{
+    AlignmentArgs, AssociationArgs, AssociationOutput, DecisionsArg, ReportsArg,
+};
 use super::{check_signals, detached, py_err, slice};
 use geofeas::association::align::TimeCover;
 use geofeas::association::candidates::{TrackPartial, PARTIAL_WIDTH};
@@ -156,7 +158,7 @@ struct TracksArg<'py> {
 /// `candidates`, the number of candidate pairs before those without instants were dropped),
 /// the `tracks` (see `TracksArg`), the picture `counts` of parts that together hold every
 /// track once (a list of the counts `association_track_summary` returns; merged here) and
-/// operator `decisions`. Returns the same dict as `associate`.
+/// operator `decisions`. Returns an `AssociationOutput`, as `associate` does.
 #[pyfunction]
 #[pyo3(signature = (tracks, pairs, counts, decisions, *, geographic, options))]
 fn association_finish<'py>(
@@ -167,7 +169,7 @@ fn association_finish<'py>(
     decisions: DecisionsArg<'py>,
     geographic: bool,
     options: AssociationArgs,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<AssociationOutput> {
     let o = options.options()?;
     let dec = decisions.decisions()?;
     let (src, sp) = (
@@ -281,7 +283,7 @@ fn association_finish<'py>(
         res.counts = counts;
         Ok(res)
     })?;
-    super::association::result_dict(py, res)
+    super::association::result_output(py, res)
 }
 
 fn counts_of(k: usize, d: &Bound<'_, PyDict>, geographic: bool, cell: f64) -> PyResult<Counts> {

@@ -486,7 +486,7 @@ class DistributedAssociation(Association):
     def __init__(
         self,
         reports: Reports,
-        raw: Mapping[str, Any],
+        raw: _core.AssociationOutput,
         options: dict[str, Any],
         tracks: pd.DataFrame,
         tiles: int,
