@@ -14,6 +14,7 @@ import pytest
 
 import geofeas
 from geofeas import _core
+from geofeas.association import _resolve_options
 from geofeas.association.decisions import Decisions
 from geofeas.tracking import paper_sensors
 
@@ -72,8 +73,8 @@ def _tiny_pf_frames() -> tuple[np.ndarray, np.ndarray]:
     return frames, init
 
 
-def _association() -> Any:
-    """A small association: two sources seeing two ships, one seen by both."""
+def _reports() -> Any:
+    """Two sources seeing two ships, one seen by both."""
     t = np.arange(0.0, 300.0, 10.0)
     rows = [
         (track, source, t, x0 + 5.0 * t, 100.0 + 0.0 * t)
@@ -91,7 +92,23 @@ def _association() -> Any:
     }
     import pandas as pd
 
-    return geofeas.associate(pd.DataFrame(frame))
+    return geofeas.read_reports(pd.DataFrame(frame))
+
+
+def _association() -> Any:
+    return geofeas.associate(_reports())
+
+
+ALIGNMENT = {"max_gap": 60.0, "horizon": 30.0, "process_noise": 0.1}
+
+
+def _track_boxes() -> Any:
+    rep = _reports()
+    partials = _core.association_track_partials(rep)
+    track = np.arange(rep.n_tracks, dtype=np.uint32)
+    return _core.association_track_boxes(
+        partials, track, rep.n_tracks, geographic=False, alignment=ALIGNMENT
+    )
 
 
 #: One small call of every function that returns a result type.
@@ -111,6 +128,22 @@ CALLS: dict[str, Callable[[], Any]] = {
     # the engine keeps what the bindings returned
     "associate": lambda: _association()._raw,
     "association_finish": lambda: _association().with_decisions(Decisions.empty())._raw,
+    "association_pair_instants": lambda: _core.association_pair_instants(
+        _reports(), 0, 1, alignment=ALIGNMENT
+    ),
+    "association_states_at": lambda: _core.association_states_at(
+        _reports(), np.array([15.0, 100.0, 250.0]), alignment=ALIGNMENT
+    ),
+    "association_track_boxes": _track_boxes,
+    "association_track_summary": lambda: _core.association_track_summary(
+        _reports(), options=_resolve_options(np.array(["A", "B"], dtype=object), {}, {})[0]
+    ),
+    "association_pair_stats": lambda: _core.association_pair_stats(
+        _reports(),
+        np.array([0], dtype=np.uint32),
+        np.array([1], dtype=np.uint32),
+        options=_resolve_options(np.array(["A", "B"], dtype=object), {}, {})[0],
+    ),
 }
 
 
@@ -125,8 +158,13 @@ def _check_value(where: str, value: Any, annotation: str) -> None:
     else:
         simple = {"float": float, "int": int, "bool": bool, "str": str}
         origin = annotation.split("[", 1)[0]
-        expected = simple.get(origin) or {"list": list, "dict": dict}[origin]
+        expected = simple.get(origin) or {"list": list, "dict": dict, "tuple": tuple}[origin]
         assert isinstance(value, expected), (where, type(value), annotation)
+        if origin == "tuple":
+            items = [a.strip() for a in annotation[len("tuple[") : -1].split(",")]
+            assert len(value) == len(items), where
+            for k, (v, item) in enumerate(zip(value, items, strict=True)):
+                _check_value(f"{where}[{k}]", v, item)
         if origin == "list":
             item = simple[annotation[len("list[") : -1]]
             assert all(isinstance(v, item) for v in value), where
@@ -152,9 +190,7 @@ def test_results_have_the_stub_types(function: str) -> None:
         for n in STUB.body
         if isinstance(n, ast.FunctionDef) and n.name == function and n.returns
     )
-    result = CALLS[function]()
-    assert type(result) is getattr(_core, returns)
-    _check_result(result)
+    _check_value(function, CALLS[function](), returns)
 
 
 def test_results_are_frozen() -> None:

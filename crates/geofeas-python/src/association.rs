@@ -1,7 +1,7 @@
 //! Bindings of the association pipeline (`geofeas::association`).
 
 use numpy::{
-    IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
@@ -257,11 +257,11 @@ pub struct AssociationOutput {
     component_method: Py<PyArray1<u8>>,
     component_std_error: Py<PyArray1<f64>>,
     /// The tracks' time cover, as `association_track_summary` returns it.
-    time_cover: Py<PyDict>,
+    time_cover: Py<super::fusion::PyTimeCover>,
     /// The pairs' summaries, as `association_pair_stats` returns them.
-    stats: Py<PyDict>,
+    stats: Py<super::fusion::PairStats>,
     /// The picture counts, as `association_track_summary` returns them.
-    counts: Py<PyDict>,
+    counts: Py<super::fusion::PictureCounts>,
 }
 
 #[pymethods]
@@ -316,9 +316,9 @@ pub(super) fn result_output(
         component_partitions: arr(py, comps.iter().map(|c| c.partitions).collect()),
         component_method: arr(py, comps.iter().map(|c| c.method as u8).collect()),
         component_std_error: arr(py, comps.iter().map(|c| c.max_std_error).collect()),
-        time_cover: super::fusion::time_cover_dict(py, res.time_cover)?.unbind(),
-        stats: super::fusion::stats_dict(py, &res.stats)?.unbind(),
-        counts: super::fusion::counts_dict(py, &res.counts)?.unbind(),
+        time_cover: Py::new(py, super::fusion::time_cover(py, res.time_cover))?,
+        stats: Py::new(py, super::fusion::pair_stats(py, &res.stats))?,
+        counts: Py::new(py, super::fusion::picture_counts(py, &res.counts))?,
     })
 }
 
@@ -462,7 +462,7 @@ fn association_pair_instants<'py>(
     a: usize,
     b: usize,
     alignment: AlignmentArgs,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PairInstants> {
     let n_tracks = reports.n_tracks;
     for (what, k) in [("a", a), ("b", b)] {
         if k >= n_tracks {
@@ -488,12 +488,31 @@ fn association_pair_instants<'py>(
         (t, m, sa, sb)
     });
     let n = t.len();
-    let d = PyDict::new(py);
-    d.set_item("time", t.into_pyarray(py))?;
-    d.set_item("m", m.into_pyarray(py))?;
-    d.set_item("state_a", sa.into_pyarray(py).reshape([n, 5])?)?;
-    d.set_item("state_b", sb.into_pyarray(py).reshape([n, 5])?)?;
-    Ok(d)
+    Ok(PairInstants {
+        time: t.into_pyarray(py).unbind(),
+        m: m.into_pyarray(py).unbind(),
+        state_a: sa.into_pyarray(py).reshape([n, 5])?.unbind(),
+        state_b: sb.into_pyarray(py).reshape([n, 5])?.unbind(),
+    })
+}
+
+/// The common instants of two tracks as the association aligns them.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct PairInstants {
+    /// The instants' times.
+    time: Py<PyArray1<f64>>,
+    /// The squared Mahalanobis distance of each instant.
+    m: Py<PyArray1<f64>>,
+    /// `(n, 5)`: the aligned states of both tracks, `pos0, pos1, cov_xx, cov_xy, cov_yy`.
+    state_a: Py<PyArray2<f64>>,
+    state_b: Py<PyArray2<f64>>,
+}
+
+#[pymethods]
+impl PairInstants {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("PairInstants(instants={})", self.time.bind(py).len())
+    }
 }
 
 /// The states of every track at the sorted instants `times` at which the engine's alignment
@@ -507,7 +526,7 @@ fn association_states_at<'py>(
     reports: ReportsArg<'py>,
     times: PyReadonlyArray1<'py, f64>,
     alignment: AlignmentArgs,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<StatesAt> {
     let n_tracks = reports.n_tracks;
     let r = reports.reports()?;
     let align = alignment.alignment()?;
@@ -551,11 +570,29 @@ fn association_states_at<'py>(
             st.extend_from_slice(&[s.pos[0], s.pos[1], s.cov[0], s.cov[1], s.cov[2]]);
         }
     }
-    let d = PyDict::new(py);
-    d.set_item("track", tr.into_pyarray(py))?;
-    d.set_item("index", ix.into_pyarray(py))?;
-    d.set_item("state", st.into_pyarray(py).reshape([m, 5])?)?;
-    Ok(d)
+    Ok(StatesAt {
+        track: tr.into_pyarray(py).unbind(),
+        index: ix.into_pyarray(py).unbind(),
+        state: st.into_pyarray(py).reshape([m, 5])?.unbind(),
+    })
+}
+
+/// The states of the tracks at given instants, track by track in time order.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct StatesAt {
+    /// The track (dense id) of each state.
+    track: Py<PyArray1<u32>>,
+    /// The index into the instants of each state.
+    index: Py<PyArray1<u64>>,
+    /// `(m, 5)`: the states, `pos0, pos1, cov_xx, cov_xy, cov_yy`.
+    state: Py<PyArray2<f64>>,
+}
+
+#[pymethods]
+impl StatesAt {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("StatesAt(states={})", self.track.bind(py).len())
+    }
 }
 
 /// Geographic AOU rows `(n, 5)` `lat, lon, rx, ry, bearing` (degrees, metres, degrees clockwise
@@ -605,6 +642,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(association_options, m)?)?;
     m.add_function(wrap_pyfunction!(associate, m)?)?;
     m.add_class::<AssociationOutput>()?;
+    m.add_class::<PairInstants>()?;
+    m.add_class::<StatesAt>()?;
     m.add_function(wrap_pyfunction!(association_candidates, m)?)?;
     m.add_function(wrap_pyfunction!(combine_instants, m)?)?;
     m.add_function(wrap_pyfunction!(assign_one_to_one, m)?)?;

@@ -176,9 +176,13 @@ class Association:
             {k: v for k, v in self.options.items() if k not in ASSOCIATION_DEFAULTS},
         )
         out = _core.association_finish(
-            {"source": raw.track_source, "spread": raw.track_spread, **raw.time_cover},
-            {"a": raw.a, "b": raw.b, "candidates": self.candidates, **raw.stats},
-            [raw.counts],
+            {
+                "source": raw.track_source,
+                "spread": raw.track_spread,
+                **_cover_columns(raw.time_cover),
+            },
+            {"a": raw.a, "b": raw.b, "candidates": self.candidates, **_stats_columns(raw.stats)},
+            [_counts_dict(raw.counts)],
             dec,
             geographic=self.reports.coords == "geographic",
             options=core,
@@ -414,6 +418,43 @@ def associate(
     result = Association(rep, raw, recorded)
     result.decisions = dec
     return result
+
+
+def _stats_columns(s: _core.PairStats) -> dict[str, Any]:
+    """Pair summaries as the columns ``association_finish`` takes with the pairs."""
+    return {
+        "score": s.score,
+        "instants": s.instants,
+        "sum_m": s.sum_m,
+        "k_eff": s.k_eff,
+        "sum_mg": s.sum_mg,
+        "sum_ln_det": s.sum_ln_det,
+        "mean_trace_over_det": s.mean_trace_over_det,
+        "mean_inv_det": s.mean_inv_det,
+        "pos_0": s.pos_0,
+        "pos_1": s.pos_1,
+    }
+
+
+def _cover_columns(c: _core.TimeCover) -> dict[str, Any]:
+    """A time cover as the columns ``association_finish`` takes with the tracks."""
+    return {
+        "cover_offsets": c.cover_offsets,
+        "cover_start": c.cover_start,
+        "cover_end": c.cover_end,
+    }
+
+
+def _counts_dict(c: _core.PictureCounts) -> dict[str, Any]:
+    """Picture counts as the mapping ``association_finish`` takes (and merges)."""
+    return {
+        "micros": c.micros,
+        "cell_source": c.cell_source,
+        "cell_row": c.cell_row,
+        "cell_col": c.cell_col,
+        "cell_micros": c.cell_micros,
+        "time": c.time,
+    }
 
 
 def load_association(directory: str | os.PathLike[str], /) -> Association:
