@@ -122,7 +122,7 @@ def main() -> None:
     sb = np.where(sb >= sa, sb + 1, sb)
     lo, hi = np.minimum(sa, sb).astype(np.uint32), np.maximum(sa, sb).astype(np.uint32)
     t = time.perf_counter()
-    k = _core.association_pair_stats(rep, lo, hi, options=core)["instants"]
+    k = _core.association_pair_stats(rep, lo, hi, options=core).instants
     t_sample = time.perf_counter() - t
     all_pairs = n * (n - 1) / 2
     t_brute = t_sample * all_pairs / args.sample

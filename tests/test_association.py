@@ -179,7 +179,7 @@ def _scores(frame, a, b, **kw):
     score = {k: v for k, v in kw.items() if k not in ASSOCIATION_DEFAULTS}
     core, _ = _resolve_options(rep.sources, {"inflation": 1.0, **engine}, score)
     st = _core.association_pair_stats(rep, ia, ib, options=core)
-    return float(st["score"][0]), int(st["instants"][0])
+    return float(st.score[0]), int(st.instants[0])
 
 
 def test_interpolation_exact_for_linear_motion(rng):

@@ -402,7 +402,7 @@ def test_process_noise_default_is_2_g_in_every_entry_point() -> None:
     # The bindings' own defaults: the same run as with 2 g given, another with 4 g.
     def run(**kw: float) -> np.ndarray:
         r = _core.mht_simulate_run(targets=2, sensors=3, false_alarms=2, seed=1, **kw)
-        return np.asarray(dict(r)["tracks"])
+        return np.asarray(r.tracks)
 
     assert np.array_equal(run(), run(accel_sigma=two_g))
     assert not np.array_equal(run(), run(accel_sigma=four_g))

@@ -1,6 +1,9 @@
 //! Bindings of the association pipeline (`geofeas::association`).
 
-use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -208,59 +211,119 @@ impl AssociationArgs {
     }
 }
 
-/// The result as a dict of arrays.
-pub(super) fn result_dict<'py>(
-    py: Python<'py>,
+/// The result of `associate` and `association_finish`: one row per kept pair (`a < b`, dense
+/// track ids, sorted), per track and per connected component, and the parts `association_finish`
+/// takes back (`time_cover`, `stats`, `counts`: the dicts of `association_track_summary` and
+/// `association_pair_stats`).
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct AssociationOutput {
+    /// Per pair: the tracks (dense ids), the combined score and its common instants.
+    a: Py<PyArray1<u32>>,
+    b: Py<PyArray1<u32>>,
+    score: Py<PyArray1<f64>>,
+    instants: Py<PyArray1<u32>>,
+    /// Per pair: log-likelihood ratio, posterior probability of one object and its standard
+    /// error (0 where computed exactly).
+    llr: Py<PyArray1<f64>>,
+    p_same: Py<PyArray1<f64>>,
+    std_error: Py<PyArray1<f64>>,
+    /// Per pair: 0 match, 1 borderline, 2 non-match.
+    pair_class: Py<PyArray1<u8>>,
+    /// Per pair: review order (1 first, 0 not borderline), expected probability mass a decision
+    /// settles, and how many other pairs each answer takes out of the borderline band.
+    review_rank: Py<PyArray1<u32>>,
+    review_gain: Py<PyArray1<f64>>,
+    settles_same: Py<PyArray1<u32>>,
+    settles_different: Py<PyArray1<u32>>,
+    /// Per pair: its connected component (`u32::MAX`: none).
+    component: Py<PyArray1<u32>>,
+    /// Per track: probability of no partner, object id, source and spread.
+    p_alone: Py<PyArray1<f64>>,
+    object: Py<PyArray1<u32>>,
+    track_source: Py<PyArray1<u32>>,
+    track_spread: Py<PyArray1<f64>>,
+    /// Candidate pairs the index returned, before those without a common instant were dropped.
+    candidates: usize,
+    /// Per pair of sources: the covariance inflation used.
+    inflation_a: Py<PyArray1<u32>>,
+    inflation_b: Py<PyArray1<u32>>,
+    inflation: Py<PyArray1<f64>>,
+    /// Per source: the share of the picture's objects it is estimated to hold.
+    coverage: Py<PyArray1<f64>>,
+    /// Per component: tracks, partitions enumerated (0: sampled), method (0 exact, 1 sampled)
+    /// and the largest standard error.
+    component_tracks: Py<PyArray1<u32>>,
+    component_partitions: Py<PyArray1<u64>>,
+    component_method: Py<PyArray1<u8>>,
+    component_std_error: Py<PyArray1<f64>>,
+    /// The tracks' time cover, as `association_track_summary` returns it.
+    time_cover: Py<super::fusion::PyTimeCover>,
+    /// The pairs' summaries, as `association_pair_stats` returns them.
+    stats: Py<super::fusion::PairStats>,
+    /// The picture counts, as `association_track_summary` returns them.
+    counts: Py<super::fusion::PictureCounts>,
+}
+
+#[pymethods]
+impl AssociationOutput {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "AssociationOutput(pairs={}, tracks={}, components={}, candidates={})",
+            self.a.bind(py).len(),
+            self.object.bind(py).len(),
+            self.component_tracks.bind(py).len(),
+            self.candidates
+        )
+    }
+}
+
+/// The result as an `AssociationOutput`.
+pub(super) fn result_output(
+    py: Python<'_>,
     res: association::Association,
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("a", res.a.into_pyarray(py))?;
-    d.set_item("b", res.b.into_pyarray(py))?;
-    d.set_item("score", res.score.into_pyarray(py))?;
-    d.set_item("instants", res.instants.into_pyarray(py))?;
-    d.set_item("llr", res.llr.into_pyarray(py))?;
-    d.set_item("p_same", res.p_same.into_pyarray(py))?;
-    d.set_item("std_error", res.std_error.into_pyarray(py))?;
-    let class: Vec<u8> = res.class.iter().map(|&c| c as u8).collect();
-    d.set_item("class", class.into_pyarray(py))?;
-    d.set_item("review_rank", res.review_rank.into_pyarray(py))?;
-    d.set_item("review_gain", res.review_gain.into_pyarray(py))?;
+) -> PyResult<AssociationOutput> {
+    fn arr<T: numpy::Element>(py: Python<'_>, v: Vec<T>) -> Py<PyArray1<T>> {
+        v.into_pyarray(py).unbind()
+    }
     let (s_same, s_diff): (Vec<u32>, Vec<u32>) = res.settles.iter().copied().unzip();
-    d.set_item("settles_same", s_same.into_pyarray(py))?;
-    d.set_item("settles_different", s_diff.into_pyarray(py))?;
-    d.set_item("component", res.component.into_pyarray(py))?;
-    d.set_item("p_alone", res.p_alone.into_pyarray(py))?;
-    d.set_item("object", res.object.into_pyarray(py))?;
-    d.set_item("candidates", res.candidates)?;
     let (ia, (ib, ic)): (Vec<u32>, (Vec<u32>, Vec<f64>)) =
         res.inflation.iter().map(|&(a, b, c)| (a, (b, c))).unzip();
-    d.set_item("inflation_a", ia.into_pyarray(py))?;
-    d.set_item("inflation_b", ib.into_pyarray(py))?;
-    d.set_item("inflation", ic.into_pyarray(py))?;
-    d.set_item("coverage", res.coverage.into_pyarray(py))?;
-    let comp_tracks: Vec<u32> = res.components.iter().map(|c| c.tracks).collect();
-    let comp_parts: Vec<u64> = res.components.iter().map(|c| c.partitions).collect();
-    let comp_method: Vec<u8> = res.components.iter().map(|c| c.method as u8).collect();
-    let comp_err: Vec<f64> = res.components.iter().map(|c| c.max_std_error).collect();
-    d.set_item("component_tracks", comp_tracks.into_pyarray(py))?;
-    d.set_item("component_partitions", comp_parts.into_pyarray(py))?;
-    d.set_item("component_method", comp_method.into_pyarray(py))?;
-    d.set_item("component_std_error", comp_err.into_pyarray(py))?;
-    let source: Vec<u32> = res.tracks.iter().map(|t| t.source).collect();
-    let spread: Vec<f64> = res.tracks.iter().map(|t| t.spread).collect();
-    d.set_item("track_source", source.into_pyarray(py))?;
-    d.set_item("track_spread", spread.into_pyarray(py))?;
-    d.set_item(
-        "time_cover",
-        super::fusion::time_cover_dict(py, res.time_cover)?,
-    )?;
-    d.set_item("stats", super::fusion::stats_dict(py, &res.stats)?)?;
-    d.set_item("counts", super::fusion::counts_dict(py, &res.counts)?)?;
-    Ok(d)
+    let comps = &res.components;
+    Ok(AssociationOutput {
+        a: arr(py, res.a),
+        b: arr(py, res.b),
+        score: arr(py, res.score),
+        instants: arr(py, res.instants),
+        llr: arr(py, res.llr),
+        p_same: arr(py, res.p_same),
+        std_error: arr(py, res.std_error),
+        pair_class: arr(py, res.class.iter().map(|&c| c as u8).collect()),
+        review_rank: arr(py, res.review_rank),
+        review_gain: arr(py, res.review_gain),
+        settles_same: arr(py, s_same),
+        settles_different: arr(py, s_diff),
+        component: arr(py, res.component),
+        p_alone: arr(py, res.p_alone),
+        object: arr(py, res.object),
+        track_source: arr(py, res.tracks.iter().map(|t| t.source).collect()),
+        track_spread: arr(py, res.tracks.iter().map(|t| t.spread).collect()),
+        candidates: res.candidates,
+        inflation_a: arr(py, ia),
+        inflation_b: arr(py, ib),
+        inflation: arr(py, ic),
+        coverage: arr(py, res.coverage),
+        component_tracks: arr(py, comps.iter().map(|c| c.tracks).collect()),
+        component_partitions: arr(py, comps.iter().map(|c| c.partitions).collect()),
+        component_method: arr(py, comps.iter().map(|c| c.method as u8).collect()),
+        component_std_error: arr(py, comps.iter().map(|c| c.max_std_error).collect()),
+        time_cover: Py::new(py, super::fusion::time_cover(py, res.time_cover))?,
+        stats: Py::new(py, super::fusion::pair_stats(py, &res.stats))?,
+        counts: Py::new(py, super::fusion::picture_counts(py, &res.counts))?,
+    })
 }
 
 /// The whole pipeline on `reports` (see `ReportsArg`) with operator `decisions` (see
-/// `DecisionsArg`); returns a dict of arrays. `options` holds the keyword arguments of
+/// `DecisionsArg`); returns an `AssociationOutput`. `options` holds the keyword arguments of
 /// `geofeas.associate` as resolved in Python.
 #[pyfunction]
 #[pyo3(signature = (reports, decisions, *, options))]
@@ -269,7 +332,7 @@ fn associate<'py>(
     reports: ReportsArg<'py>,
     decisions: DecisionsArg<'py>,
     options: AssociationArgs,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<AssociationOutput> {
     let o = options.options()?;
     let dec = decisions.decisions()?;
     let (t, s, tm) = reports.columns()?;
@@ -278,7 +341,7 @@ fn associate<'py>(
         let r = Reports::new(coords, n, t, s, tm, &rows)?;
         association::associate(&r, &o, &dec, &mut check_signals)
     })?;
-    result_dict(py, res)
+    result_output(py, res)
 }
 
 /// Candidate pairs `(a, b)` from the R-tree, or by testing every pair of chunks.
@@ -399,7 +462,7 @@ fn association_pair_instants<'py>(
     a: usize,
     b: usize,
     alignment: AlignmentArgs,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PairInstants> {
     let n_tracks = reports.n_tracks;
     for (what, k) in [("a", a), ("b", b)] {
         if k >= n_tracks {
@@ -425,12 +488,31 @@ fn association_pair_instants<'py>(
         (t, m, sa, sb)
     });
     let n = t.len();
-    let d = PyDict::new(py);
-    d.set_item("time", t.into_pyarray(py))?;
-    d.set_item("m", m.into_pyarray(py))?;
-    d.set_item("state_a", sa.into_pyarray(py).reshape([n, 5])?)?;
-    d.set_item("state_b", sb.into_pyarray(py).reshape([n, 5])?)?;
-    Ok(d)
+    Ok(PairInstants {
+        time: t.into_pyarray(py).unbind(),
+        m: m.into_pyarray(py).unbind(),
+        state_a: sa.into_pyarray(py).reshape([n, 5])?.unbind(),
+        state_b: sb.into_pyarray(py).reshape([n, 5])?.unbind(),
+    })
+}
+
+/// The common instants of two tracks as the association aligns them.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct PairInstants {
+    /// The instants' times.
+    time: Py<PyArray1<f64>>,
+    /// The squared Mahalanobis distance of each instant.
+    m: Py<PyArray1<f64>>,
+    /// `(n, 5)`: the aligned states of both tracks, `pos0, pos1, cov_xx, cov_xy, cov_yy`.
+    state_a: Py<PyArray2<f64>>,
+    state_b: Py<PyArray2<f64>>,
+}
+
+#[pymethods]
+impl PairInstants {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("PairInstants(instants={})", self.time.bind(py).len())
+    }
 }
 
 /// The states of every track at the sorted instants `times` at which the engine's alignment
@@ -444,7 +526,7 @@ fn association_states_at<'py>(
     reports: ReportsArg<'py>,
     times: PyReadonlyArray1<'py, f64>,
     alignment: AlignmentArgs,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<StatesAt> {
     let n_tracks = reports.n_tracks;
     let r = reports.reports()?;
     let align = alignment.alignment()?;
@@ -488,11 +570,29 @@ fn association_states_at<'py>(
             st.extend_from_slice(&[s.pos[0], s.pos[1], s.cov[0], s.cov[1], s.cov[2]]);
         }
     }
-    let d = PyDict::new(py);
-    d.set_item("track", tr.into_pyarray(py))?;
-    d.set_item("index", ix.into_pyarray(py))?;
-    d.set_item("state", st.into_pyarray(py).reshape([m, 5])?)?;
-    Ok(d)
+    Ok(StatesAt {
+        track: tr.into_pyarray(py).unbind(),
+        index: ix.into_pyarray(py).unbind(),
+        state: st.into_pyarray(py).reshape([m, 5])?.unbind(),
+    })
+}
+
+/// The states of the tracks at given instants, track by track in time order.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct StatesAt {
+    /// The track (dense id) of each state.
+    track: Py<PyArray1<u32>>,
+    /// The index into the instants of each state.
+    index: Py<PyArray1<u64>>,
+    /// `(m, 5)`: the states, `pos0, pos1, cov_xx, cov_xy, cov_yy`.
+    state: Py<PyArray2<f64>>,
+}
+
+#[pymethods]
+impl StatesAt {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("StatesAt(states={})", self.track.bind(py).len())
+    }
 }
 
 /// Geographic AOU rows `(n, 5)` `lat, lon, rx, ry, bearing` (degrees, metres, degrees clockwise
@@ -598,6 +698,9 @@ fn association_options(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(association_options, m)?)?;
     m.add_function(wrap_pyfunction!(associate, m)?)?;
+    m.add_class::<AssociationOutput>()?;
+    m.add_class::<PairInstants>()?;
+    m.add_class::<StatesAt>()?;
     m.add_function(wrap_pyfunction!(association_candidates, m)?)?;
     m.add_function(wrap_pyfunction!(combine_instants, m)?)?;
     m.add_function(wrap_pyfunction!(assign_one_to_one, m)?)?;

@@ -3,11 +3,15 @@
 //! whole tracks (`evidence::Counts`), and the global step run once on the gathered pairs and
 //! components (`geofeas::association::finish`, the very function `associate` ends with).
 
-use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use super::association::{AlignmentArgs, AssociationArgs, DecisionsArg, ReportsArg};
+use super::association::{
+    AlignmentArgs, AssociationArgs, AssociationOutput, DecisionsArg, ReportsArg,
+};
 use super::{check_signals, detached, py_err, slice};
 use geofeas::association::align::TimeCover;
 use geofeas::association::candidates::{TrackPartial, PARTIAL_WIDTH};
@@ -28,8 +32,7 @@ const STAT_FIELDS: [&str; 9] = [
     "pos",
 ];
 
-/// Per pair `(a, b)` of a tile: the summary of its common instants (a dict of arrays named as
-/// the fields of `PairStat`; `pos` is `(n, 2)`).
+/// Per pair `(a, b)` of a tile: the summary of its common instants.
 #[pyfunction]
 #[pyo3(signature = (reports, a, b, *, options, stream_ids=None))]
 fn association_pair_stats<'py>(
@@ -39,7 +42,7 @@ fn association_pair_stats<'py>(
     b: PyReadonlyArray1<'py, u32>,
     options: AssociationArgs,
     stream_ids: Option<PyReadonlyArray1<'py, u32>>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PairStats> {
     let n_tracks = reports.n_tracks;
     let r = reports.reports()?;
     let r = match &stream_ids {
@@ -67,42 +70,64 @@ fn association_pair_stats<'py>(
     let out = detached(py, || {
         association::score_pairs(&r, &pairs, &o, &mut check_signals)
     })?;
-    stats_dict(py, &out)
+    Ok(pair_stats(py, &out))
 }
 
-/// The fields of pair summaries as a dict of arrays (`pos` as `pos_0`, `pos_1`).
-pub(super) fn stats_dict<'py>(py: Python<'py>, out: &[PairStat]) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    let col = |f: fn(&PairStat) -> f64| out.iter().map(f).collect::<Vec<f64>>();
-    d.set_item("score", col(|p| p.score).into_pyarray(py))?;
+/// The summaries of pairs' common instants, one row per pair (the fields of `PairStat`, `pos`
+/// as `pos_0`, `pos_1`): what `association_finish` takes back, as a mapping, with the pairs.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct PairStats {
+    score: Py<PyArray1<f64>>,
+    instants: Py<PyArray1<u32>>,
+    sum_m: Py<PyArray1<f64>>,
+    k_eff: Py<PyArray1<f64>>,
+    sum_mg: Py<PyArray1<f64>>,
+    sum_ln_det: Py<PyArray1<f64>>,
+    mean_trace_over_det: Py<PyArray1<f64>>,
+    mean_inv_det: Py<PyArray1<f64>>,
+    pos_0: Py<PyArray1<f64>>,
+    pos_1: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl PairStats {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("PairStats(pairs={})", self.score.bind(py).len())
+    }
+}
+
+pub(super) fn pair_stats(py: Python<'_>, out: &[PairStat]) -> PairStats {
+    let col = |f: fn(&PairStat) -> f64| -> Py<PyArray1<f64>> {
+        out.iter()
+            .map(f)
+            .collect::<Vec<f64>>()
+            .into_pyarray(py)
+            .unbind()
+    };
     let instants: Vec<u32> = out.iter().map(|p| p.instants).collect();
-    d.set_item("instants", instants.into_pyarray(py))?;
-    d.set_item("sum_m", col(|p| p.sum_m).into_pyarray(py))?;
-    d.set_item("k_eff", col(|p| p.k_eff).into_pyarray(py))?;
-    d.set_item("sum_mg", col(|p| p.sum_mg).into_pyarray(py))?;
-    d.set_item("sum_ln_det", col(|p| p.sum_ln_det).into_pyarray(py))?;
-    d.set_item(
-        "mean_trace_over_det",
-        col(|p| p.mean_trace_over_det).into_pyarray(py),
-    )?;
-    d.set_item("mean_inv_det", col(|p| p.mean_inv_det).into_pyarray(py))?;
-    d.set_item("pos_0", col(|p| p.pos[0]).into_pyarray(py))?;
-    d.set_item("pos_1", col(|p| p.pos[1]).into_pyarray(py))?;
-    Ok(d)
+    PairStats {
+        score: col(|p| p.score),
+        instants: instants.into_pyarray(py).unbind(),
+        sum_m: col(|p| p.sum_m),
+        k_eff: col(|p| p.k_eff),
+        sum_mg: col(|p| p.sum_mg),
+        sum_ln_det: col(|p| p.sum_ln_det),
+        mean_trace_over_det: col(|p| p.mean_trace_over_det),
+        mean_inv_det: col(|p| p.mean_inv_det),
+        pos_0: col(|p| p.pos[0]),
+        pos_1: col(|p| p.pos[1]),
+    }
 }
 
 /// What the global step needs of the tracks of a partition holding whole tracks, from one
-/// reading of their reports: the picture counts (a dict: per-source track-microseconds `micros`,
-/// the occupied cells `cell_source, cell_row, cell_col, cell_micros` and the time range `time`)
-/// and when each track has a state (`align::TimeCover`: a dict of `cover_offsets`, one more than
-/// tracks, and `cover_start`, `cover_end`, one per chain).
+/// reading of their reports: the picture counts and when each track has a state.
 #[pyfunction]
 #[pyo3(signature = (reports, *, options))]
 fn association_track_summary<'py>(
     py: Python<'py>,
     reports: ReportsArg<'py>,
     options: AssociationArgs,
-) -> PyResult<(Bound<'py, PyDict>, Bound<'py, PyDict>)> {
+) -> PyResult<(PictureCounts, PyTimeCover)> {
     let r = reports.reports()?;
     let o = options.options()?;
     let (counts, cover) = py.detach(|| {
@@ -111,31 +136,74 @@ fn association_track_summary<'py>(
             TimeCover::of(&r, &o.align),
         )
     });
-    Ok((counts_dict(py, &counts)?, time_cover_dict(py, cover)?))
+    Ok((picture_counts(py, &counts), time_cover(py, cover)))
 }
 
-pub(super) fn time_cover_dict<'py>(py: Python<'py>, c: TimeCover) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("cover_offsets", c.offsets.into_pyarray(py))?;
+/// When each track has a state (`align::TimeCover`): the chains of track `t` are
+/// `cover_offsets[t]..cover_offsets[t + 1]` of `cover_start`, `cover_end`.
+#[pyclass(name = "TimeCover", frozen, get_all, module = "geofeas._core")]
+pub struct PyTimeCover {
+    cover_offsets: Py<PyArray1<u32>>,
+    cover_start: Py<PyArray1<f64>>,
+    cover_end: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl PyTimeCover {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "TimeCover(tracks={}, chains={})",
+            self.cover_offsets.bind(py).len().saturating_sub(1),
+            self.cover_start.bind(py).len()
+        )
+    }
+}
+
+pub(super) fn time_cover(py: Python<'_>, c: TimeCover) -> PyTimeCover {
     let (s, e): (Vec<f64>, Vec<f64>) = c.spans.iter().map(|x| (x[0], x[1])).unzip();
-    d.set_item("cover_start", s.into_pyarray(py))?;
-    d.set_item("cover_end", e.into_pyarray(py))?;
-    Ok(d)
+    PyTimeCover {
+        cover_offsets: c.offsets.into_pyarray(py).unbind(),
+        cover_start: s.into_pyarray(py).unbind(),
+        cover_end: e.into_pyarray(py).unbind(),
+    }
 }
 
-pub(super) fn counts_dict<'py>(py: Python<'py>, c: &Counts) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("micros", c.micros.clone().into_pyarray(py))?;
+/// The picture counts of some tracks: per-source track-microseconds `micros`, the occupied
+/// cells `cell_source, cell_row, cell_col, cell_micros` and the time range `time`.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct PictureCounts {
+    micros: Py<PyArray1<u64>>,
+    cell_source: Py<PyArray1<u32>>,
+    cell_row: Py<PyArray1<i64>>,
+    cell_col: Py<PyArray1<i64>>,
+    cell_micros: Py<PyArray1<u64>>,
+    time: (f64, f64),
+}
+
+#[pymethods]
+impl PictureCounts {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "PictureCounts(sources={}, cells={})",
+            self.micros.bind(py).len(),
+            self.cell_source.bind(py).len()
+        )
+    }
+}
+
+pub(super) fn picture_counts(py: Python<'_>, c: &Counts) -> PictureCounts {
     let s: Vec<u32> = c.grid.keys().map(|k| k.0).collect();
     let row: Vec<i64> = c.grid.keys().map(|k| k.1).collect();
     let col: Vec<i64> = c.grid.keys().map(|k| k.2).collect();
     let v: Vec<u64> = c.grid.values().copied().collect();
-    d.set_item("cell_source", s.into_pyarray(py))?;
-    d.set_item("cell_row", row.into_pyarray(py))?;
-    d.set_item("cell_col", col.into_pyarray(py))?;
-    d.set_item("cell_micros", v.into_pyarray(py))?;
-    d.set_item("time", (c.time.0, c.time.1))?;
-    Ok(d)
+    PictureCounts {
+        micros: c.micros.clone().into_pyarray(py).unbind(),
+        cell_source: s.into_pyarray(py).unbind(),
+        cell_row: row.into_pyarray(py).unbind(),
+        cell_col: col.into_pyarray(py).unbind(),
+        cell_micros: v.into_pyarray(py).unbind(),
+        time: c.time,
+    }
 }
 
 /// The tracks of the global step: a mapping of arrays with one row per track, `source` and
@@ -156,7 +224,7 @@ struct TracksArg<'py> {
 /// `candidates`, the number of candidate pairs before those without instants were dropped),
 /// the `tracks` (see `TracksArg`), the picture `counts` of parts that together hold every
 /// track once (a list of the counts `association_track_summary` returns; merged here) and
-/// operator `decisions`. Returns the same dict as `associate`.
+/// operator `decisions`. Returns an `AssociationOutput`, as `associate` does.
 #[pyfunction]
 #[pyo3(signature = (tracks, pairs, counts, decisions, *, geographic, options))]
 fn association_finish<'py>(
@@ -167,7 +235,7 @@ fn association_finish<'py>(
     decisions: DecisionsArg<'py>,
     geographic: bool,
     options: AssociationArgs,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<AssociationOutput> {
     let o = options.options()?;
     let dec = decisions.decisions()?;
     let (src, sp) = (
@@ -281,7 +349,7 @@ fn association_finish<'py>(
         res.counts = counts;
         Ok(res)
     })?;
-    super::association::result_dict(py, res)
+    super::association::result_output(py, res)
 }
 
 fn counts_of(k: usize, d: &Bound<'_, PyDict>, geographic: bool, cell: f64) -> PyResult<Counts> {
@@ -353,7 +421,7 @@ fn association_track_boxes<'py>(
     geographic: bool,
     alignment: AlignmentArgs,
     halo: f64,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<TrackBoxes> {
     let align = alignment.alignment()?;
     if !(halo.is_finite() && halo >= 0.0) {
         return Err(py_err(Error::InvalidOption {
@@ -413,28 +481,60 @@ fn association_track_boxes<'py>(
     let shaped = |v: Vec<f64>, k: usize| {
         numpy::ndarray::Array2::from_shape_vec((n, k), v).map_err(|e| Error::Invalid(e.to_string()))
     };
-    let d = PyDict::new(py);
-    let col = |f: fn(&TrackPartial) -> f64| merged.iter().map(f).collect::<Vec<f64>>();
+    let col = |f: fn(&TrackPartial) -> f64| -> Py<PyArray1<f64>> {
+        merged
+            .iter()
+            .map(f)
+            .collect::<Vec<f64>>()
+            .into_pyarray(py)
+            .unbind()
+    };
     let reports: Vec<u64> = merged.iter().map(|p| p.reports).collect();
-    d.set_item("reports", reports.into_pyarray(py))?;
-    d.set_item("start", col(|p| p.t_min).into_pyarray(py))?;
-    d.set_item("end", col(|p| p.t_max).into_pyarray(py))?;
-    d.set_item(
-        "spread",
-        col(|p| posterior::Track::spread_of(p.area_min, p.area_max)).into_pyarray(py),
-    )?;
-    d.set_item("halo", growth.into_pyarray(py))?;
-    d.set_item("lo", shaped(lo, 4).map_err(py_err)?.into_pyarray(py))?;
-    d.set_item("hi", shaped(hi, 4).map_err(py_err)?.into_pyarray(py))?;
-    d.set_item("first_time", col(|p| p.ends[0].time).into_pyarray(py))?;
-    d.set_item(
-        "first_aou",
-        shaped(first, 5).map_err(py_err)?.into_pyarray(py),
-    )?;
-    Ok(d)
+    Ok(TrackBoxes {
+        reports: reports.into_pyarray(py).unbind(),
+        start: col(|p| p.t_min),
+        end: col(|p| p.t_max),
+        spread: col(|p| posterior::Track::spread_of(p.area_min, p.area_max)),
+        halo: growth.into_pyarray(py).unbind(),
+        lo: shaped(lo, 4).map_err(py_err)?.into_pyarray(py).unbind(),
+        hi: shaped(hi, 4).map_err(py_err)?.into_pyarray(py).unbind(),
+        first_time: col(|p| p.ends[0].time),
+        first_aou: shaped(first, 5).map_err(py_err)?.into_pyarray(py).unbind(),
+    })
+}
+
+/// The merged partials of every track: one row per track.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct TrackBoxes {
+    /// Reports of the track.
+    reports: Py<PyArray1<u64>>,
+    /// First and last report times.
+    start: Py<PyArray1<f64>>,
+    end: Py<PyArray1<f64>>,
+    /// The track's AOU spread (as the posterior's tracks have it).
+    spread: Py<PyArray1<f64>>,
+    /// The spatial growth of the box, m.
+    halo: Py<PyArray1<f64>>,
+    /// `(n, 4)`: the grown box's corners, x, y, z, t.
+    lo: Py<PyArray2<f64>>,
+    hi: Py<PyArray2<f64>>,
+    /// The earliest report: its time and `(n, 5)` AOU as given.
+    first_time: Py<PyArray1<f64>>,
+    first_aou: Py<PyArray2<f64>>,
+}
+
+#[pymethods]
+impl TrackBoxes {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("TrackBoxes(tracks={})", self.start.bind(py).len())
+    }
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<TrackBoxes>()?;
+    m.add_class::<PairStats>()?;
+    m.add_class::<PyTimeCover>()?;
+    m.add_class::<PictureCounts>()?;
     m.add_function(wrap_pyfunction!(association_track_partials, m)?)?;
     m.add_function(wrap_pyfunction!(association_track_boxes, m)?)?;
     m.add_function(wrap_pyfunction!(association_pair_stats, m)?)?;

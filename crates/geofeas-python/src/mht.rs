@@ -1,7 +1,5 @@
 //! Bindings of the multiple-hypothesis trilateration tracker (`geofeas_tracking::mht`).
 
-use std::collections::HashMap;
-
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyUntypedArrayMethods,
@@ -210,7 +208,7 @@ fn mht_track<'py>(
     detections: PyReadonlyArray2<'py, f64>,
     sensors: PyReadonlyArray2<'py, f64>,
     options: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<MhtTrack> {
     let config = read_one::<MhtOptions>(options)?.config().map_err(py_err)?;
     let flat = matrix("detections", &detections, 4)?;
     let sens = sensors_from(matrix("sensors", &sensors, 6)?).map_err(py_err)?;
@@ -241,12 +239,94 @@ fn mht_track<'py>(
         Ok((best.clone(), best.probability()))
     })?;
     let (paths, ellipses, owner) = hypothesis_arrays(&best, n);
-    let out = PyDict::new(py);
-    out.set_item("tracks", to_2d(py, paths, 6)?)?;
-    out.set_item("ellipses", to_2d(py, ellipses, 6)?)?;
-    out.set_item("track_of_detection", owner.into_pyarray(py))?;
-    out.set_item("probability", probability)?;
-    Ok(out)
+    Ok(MhtTrack {
+        tracks: to_2d(py, paths, 6)?.unbind(),
+        ellipses: to_2d(py, ellipses, 6)?.unbind(),
+        track_of_detection: owner.into_pyarray(py).unbind(),
+        probability,
+    })
+}
+
+/// The tracks of the most likely hypothesis after a stream of detections.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct MhtTrack {
+    /// Rows `[id, time, x, y, vx, vy]`: every Cartesian update of every track.
+    tracks: Py<PyArray2<f64>>,
+    /// Rows `[id, x0, y0, rx, ry, phi]`: 2-sigma AOU of the open Cartesian tracks.
+    ellipses: Py<PyArray2<f64>>,
+    /// The track id of every detection, -1 for none.
+    track_of_detection: Py<PyArray1<f64>>,
+    /// Probability of the hypothesis among those kept.
+    probability: f64,
+}
+
+#[pymethods]
+impl MhtTrack {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "MhtTrack(updates={}, ellipses={}, detections={}, probability={})",
+            self.tracks.bind(py).shape()[0],
+            self.ellipses.bind(py).shape()[0],
+            self.track_of_detection.bind(py).len(),
+            self.probability
+        )
+    }
+}
+
+/// One simulated and tracked run of a paper scenario.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct MhtRun {
+    /// Rows `[time, sensor, range, range_rate, target, track]` (target -1: false alarm; track
+    /// -1: in no track of the final most likely hypothesis).
+    detections: Py<PyArray2<f64>>,
+    /// As in `MhtTrack`.
+    tracks: Py<PyArray2<f64>>,
+    ellipses: Py<PyArray2<f64>>,
+    /// Rows `[target, time, x, y, vx, vy]` every 0.05 s.
+    truth: Py<PyArray2<f64>>,
+    /// Rows `[x, y]`: the sensors' positions.
+    sensors: Py<PyArray2<f64>>,
+    /// `(metrics,)`: the run's metrics in the order of `mht_metric_names()`.
+    metrics: Py<PyArray1<f64>>,
+    /// Seconds simulated.
+    duration: f64,
+}
+
+#[pymethods]
+impl MhtRun {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "MhtRun(detections={}, updates={}, sensors={}, duration={})",
+            self.detections.bind(py).shape()[0],
+            self.tracks.bind(py).shape()[0],
+            self.sensors.bind(py).shape()[0],
+            self.duration
+        )
+    }
+}
+
+/// The Monte-Carlo study of Tables 1 and 2: one row per cell, every metric pooled over the
+/// cell's runs with its percentile-bootstrap interval.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct MhtStudy {
+    /// The cells: tracker name, sensors, targets and false alarms per sensor per scan.
+    tracker: Vec<&'static str>,
+    sensors: Py<PyArray1<i64>>,
+    targets: Py<PyArray1<i64>>,
+    false_alarms: Py<PyArray1<i64>>,
+    /// `(rows, metrics)`: columns in the order of `mht_metric_names()`.
+    metrics: Py<PyArray2<f64>>,
+    /// `(rows, metrics)`: the intervals' lower and upper bounds.
+    metrics_lo: Py<PyArray2<f64>>,
+    metrics_hi: Py<PyArray2<f64>>,
+}
+
+#[pymethods]
+impl MhtStudy {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let s = self.metrics.bind(py).shape();
+        format!("MhtStudy(rows={}, metrics={})", s[0], s[1])
+    }
 }
 
 /// Simulates and tracks one run of a paper scenario; returns detections, tracks, ellipses, truth
@@ -257,7 +337,7 @@ fn mht_track<'py>(
 fn mht_simulate_run<'py>(
     py: Python<'py>,
     options: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<MhtRun> {
     let r = read_one::<MhtRunOptions>(options)?;
     let opts = r.study_options().map_err(py_err)?;
     let cell = Cell {
@@ -296,20 +376,22 @@ fn mht_simulate_run<'py>(
         .iter()
         .flat_map(|s| [s.position[0], s.position[1]])
         .collect();
-    let m = o.tally.metrics();
-    let metrics = PyDict::new(py);
-    for (k, v) in Metrics::NAMES.iter().zip(m.values()) {
-        metrics.set_item(*k, v)?;
-    }
-    let out = PyDict::new(py);
-    out.set_item("detections", to_2d(py, det_rows, 6)?)?;
-    out.set_item("tracks", to_2d(py, paths, 6)?)?;
-    out.set_item("ellipses", to_2d(py, ellipses, 6)?)?;
-    out.set_item("truth", to_2d(py, truth, 6)?)?;
-    out.set_item("sensors", to_2d(py, sens, 2)?)?;
-    out.set_item("metrics", metrics)?;
-    out.set_item("duration", o.scenario.duration)?;
-    Ok(out)
+    let metrics = o
+        .tally
+        .metrics()
+        .values()
+        .to_vec()
+        .into_pyarray(py)
+        .unbind();
+    Ok(MhtRun {
+        detections: to_2d(py, det_rows, 6)?.unbind(),
+        tracks: to_2d(py, paths, 6)?.unbind(),
+        ellipses: to_2d(py, ellipses, 6)?.unbind(),
+        truth: to_2d(py, truth, 6)?.unbind(),
+        sensors: to_2d(py, sens, 2)?.unbind(),
+        metrics,
+        duration: o.scenario.duration,
+    })
 }
 
 /// The Monte-Carlo study of Tables 1 and 2: one row per cell (tracker x sensors x targets x
@@ -317,10 +399,7 @@ fn mht_simulate_run<'py>(
 /// Keyword options: those of `mht_options()["study"]`.
 #[pyfunction]
 #[pyo3(signature = (**options))]
-fn mht_study<'py>(
-    py: Python<'py>,
-    options: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Bound<'py, PyDict>> {
+fn mht_study<'py>(py: Python<'py>, options: Option<&Bound<'py, PyDict>>) -> PyResult<MhtStudy> {
     let o = read_one::<MhtStudyOptions>(options)?;
     let opts = o.study_options().map_err(py_err)?;
     let (seed, resamples, level) = (o.seed, o.resamples, o.level);
@@ -340,29 +419,32 @@ fn mht_study<'py>(
                 .collect::<Vec<_>>(),
         )
     })?;
-    let mut cols: HashMap<String, Vec<f64>> = HashMap::new();
-    let mut names = Vec::with_capacity(rows.len());
-    for (c, (m, lo, hi)) in cells.iter().zip(&rows) {
-        for (k, v) in [
-            ("targets", c.targets as f64),
-            ("sensors", c.sensors as f64),
-            ("false_alarms", c.false_alarms as f64),
-        ] {
-            cols.entry(k.to_string()).or_default().push(v);
-        }
-        for (k, name) in Metrics::NAMES.iter().enumerate() {
-            cols.entry(name.to_string()).or_default().push(m[k]);
-            cols.entry(format!("{name}_lo")).or_default().push(lo[k]);
-            cols.entry(format!("{name}_hi")).or_default().push(hi[k]);
-        }
-        names.push(c.tracker.name());
-    }
-    let out = PyDict::new(py);
-    for (k, v) in cols {
-        out.set_item(k, v.into_pyarray(py))?;
-    }
-    out.set_item("tracker", names)?;
-    Ok(out)
+    let n = rows.len();
+    let ints = |f: fn(&Cell) -> usize| -> Py<PyArray1<i64>> {
+        cells
+            .iter()
+            .map(|c| f(c) as i64)
+            .collect::<Vec<_>>()
+            .into_pyarray(py)
+            .unbind()
+    };
+    type Row = ([f64; 12], [f64; 12], [f64; 12]);
+    let table = |pick: fn(&Row) -> &[f64; 12]| -> PyResult<Py<PyArray2<f64>>> {
+        let flat: Vec<f64> = rows.iter().flat_map(|r| *pick(r)).collect();
+        Ok(flat
+            .into_pyarray(py)
+            .reshape([n, Metrics::NAMES.len()])?
+            .unbind())
+    };
+    Ok(MhtStudy {
+        tracker: cells.iter().map(|c| c.tracker.name()).collect(),
+        sensors: ints(|c| c.sensors),
+        targets: ints(|c| c.targets),
+        false_alarms: ints(|c| c.false_alarms),
+        metrics: table(|r| &r.0)?,
+        metrics_lo: table(|r| &r.1)?,
+        metrics_hi: table(|r| &r.2)?,
+    })
 }
 
 /// Names of the study's trackers.
@@ -546,5 +628,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mht_metric_names, m)?)?;
     m.add_function(wrap_pyfunction!(mht_tracker_names, m)?)?;
     m.add_class::<PyMhtTracker>()?;
+    m.add_class::<MhtTrack>()?;
+    m.add_class::<MhtRun>()?;
+    m.add_class::<MhtStudy>()?;
     Ok(())
 }

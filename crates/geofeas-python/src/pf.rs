@@ -1,8 +1,8 @@
 //! Bindings of the particle-filter focal-plane tracker (`geofeas_tracking::pf`).
 
 use numpy::{
-    IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3,
-    PyUntypedArrayMethods,
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayMethods, PyReadonlyArray2,
+    PyReadonlyArray3, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -12,9 +12,9 @@ use super::{check_signals, detached, py_err};
 use geofeas::error::{Error, Result};
 use geofeas::rng::stream;
 use geofeas_tracking::pf::{
-    find_peaks, peak_label, study, track_frames, track_truth, Bank, Cell, Frame, LikelihoodModel,
-    Method, Particles, PeakOptions, PfOptions, PfRunOptions, PfStudyOptions, PfTrackOptions, Psf,
-    RunSpec, Scenario, Step, StudyOptions,
+    find_peaks, peak_label, study, track_frames, track_truth, Bank, BankMetrics, Cell, CellResult,
+    FilterMetrics, Frame, LikelihoodModel, Method, Particles, PeakOptions, PfOptions, PfRunOptions,
+    PfStudyOptions, PfTrackOptions, Psf, RunSpec, Scenario, Step, StudyOptions,
 };
 
 /// An `(n, 2)` array of finite points as its flat buffer; errors name the array, row and field.
@@ -106,19 +106,79 @@ impl Recorder {
         }
     }
 
-    fn into_dict<'py>(self, py: Python<'py>, out: &Bound<'py, PyDict>) -> PyResult<()> {
+    fn into_track(self, py: Python<'_>) -> PyResult<PfTrack> {
         let (f, t, k) = (self.frames, self.filters, self.k);
-        out.set_item("estimates", self.est.into_pyarray(py).reshape([f, t, 4])?)?;
-        out.set_item(
-            "covariances",
-            self.cov.into_pyarray(py).reshape([f, t, 4, 4])?,
-        )?;
-        out.set_item("peaks", self.peaks.into_pyarray(py).reshape([f, k, 3])?)?;
-        out.set_item("peak", self.peak.into_pyarray(py).reshape([f, t])?)?;
-        out.set_item("distances", self.dist.into_pyarray(py).reshape([f, t, k])?)?;
-        out.set_item("residuals", self.resid.into_pyarray(py).reshape([f, t, 2])?)?;
-        out.set_item("ess", self.ess.into_pyarray(py).reshape([f, t])?)?;
-        Ok(())
+        Ok(PfTrack {
+            estimates: self.est.into_pyarray(py).reshape([f, t, 4])?.unbind(),
+            covariances: self.cov.into_pyarray(py).reshape([f, t, 4, 4])?.unbind(),
+            peaks: self.peaks.into_pyarray(py).reshape([f, k, 3])?.unbind(),
+            peak: self.peak.into_pyarray(py).reshape([f, t])?.unbind(),
+            distances: self.dist.into_pyarray(py).reshape([f, t, k])?.unbind(),
+            residuals: self.resid.into_pyarray(py).reshape([f, t, 2])?.unbind(),
+            ess: self.ess.into_pyarray(py).reshape([f, t])?.unbind(),
+        })
+    }
+}
+
+/// What a bank of filters did on each of `F` frames: `T` filters, `K` peaks per frame.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct PfTrack {
+    /// `(F, T, 4)`: each filter's posterior mean `x, y, vx, vy`.
+    estimates: Py<PyArray3<f64>>,
+    /// `(F, T, 4, 4)`: each filter's posterior covariance.
+    covariances: Py<PyArray4<f64>>,
+    /// `(F, K, 3)`: the frame's peaks `x, y, intensity`, NaN rows when fewer.
+    peaks: Py<PyArray3<f64>>,
+    /// `(F, T)`: the peak each filter took, -1 for none.
+    peak: Py<PyArray2<i64>>,
+    /// `(F, T, K)`: distance of each filter to each peak (`R_i^j`).
+    distances: Py<PyArray3<f64>>,
+    /// `(F, T, 2)`: each filter's residual (Fig. 12 mean and sd).
+    residuals: Py<PyArray3<f64>>,
+    /// `(F, T)`: each filter's effective sample size.
+    ess: Py<PyArray2<f64>>,
+}
+
+#[pymethods]
+impl PfTrack {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let s = self.distances.bind(py).shape();
+        format!("PfTrack(frames={}, filters={}, peaks={})", s[0], s[1], s[2])
+    }
+}
+
+/// One simulated run of the paper's scenario and its track: `F` frames, `T` targets.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct PfRun {
+    /// What the filters did on the run's frames.
+    track: Py<PfTrack>,
+    /// `(F, T, 8)`: each target's `x, y, vx, vy, speed, heading, a_L, a_N`.
+    truth: Py<PyArray3<f64>>,
+    /// `(F, T)`: the peak a filter took is nearest to its own target.
+    correct: Py<PyArray2<bool>>,
+    /// `(n, 4)` rows `[frame, filter, x, y]`: resampled particles at the snapshot frames.
+    snapshots: Py<PyArray2<f64>>,
+    /// `(len(keep_frames), H, W)`: the kept frames' images.
+    frames: Py<PyArray3<f64>>,
+    /// The sensor's noise 1-sigma.
+    sigma_z: f64,
+    /// Seconds between frames.
+    dt: f64,
+    /// The seed of the filters' particles (`pf_track` with it reproduces the run).
+    filter_seed: u64,
+}
+
+#[pymethods]
+impl PfRun {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let s = self.truth.bind(py).shape();
+        format!(
+            "PfRun(frames={}, targets={}, snapshots={}, kept_frames={})",
+            s[0],
+            s[1],
+            self.snapshots.bind(py).shape()[0],
+            self.frames.bind(py).shape()[0]
+        )
     }
 }
 
@@ -126,10 +186,7 @@ impl Recorder {
 /// `pf_options()["run"]` and `pf_options()["filter"]`.
 #[pyfunction]
 #[pyo3(signature = (**options))]
-fn pf_simulate_run<'py>(
-    py: Python<'py>,
-    options: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Bound<'py, PyDict>> {
+fn pf_simulate_run<'py>(py: Python<'py>, options: Option<&Bound<'py, PyDict>>) -> PyResult<PfRun> {
     let (run, filter) = read_two::<PfRunOptions, PfOptions>(options)?;
     if run.snapshot_particles == 0 {
         return Err(py_err(Error::InvalidOption {
@@ -215,25 +272,22 @@ fn pf_simulate_run<'py>(
         }
         Ok((rec, rows, correct, snaps, kept))
     })?;
-    let out = PyDict::new(py);
     let f = rec.frames;
-    rec.into_dict(py, &out)?;
-    out.set_item(
-        "truth",
-        truth_rows.into_pyarray(py).reshape([f, targets, 8])?,
-    )?;
-    out.set_item("correct", correct.into_pyarray(py).reshape([f, targets])?)?;
     let ns = snaps.len() / 4;
-    out.set_item("snapshots", snaps.into_pyarray(py).reshape([ns, 4])?)?;
     let nk = kept.len() / (width * height);
-    out.set_item(
-        "frames",
-        kept.into_pyarray(py).reshape([nk, height, width])?,
-    )?;
-    out.set_item("sigma_z", sigma_z)?;
-    out.set_item("dt", dt)?;
-    out.set_item("filter_seed", filter_seed)?;
-    Ok(out)
+    Ok(PfRun {
+        track: Py::new(py, rec.into_track(py)?)?,
+        truth: truth_rows
+            .into_pyarray(py)
+            .reshape([f, targets, 8])?
+            .unbind(),
+        correct: correct.into_pyarray(py).reshape([f, targets])?.unbind(),
+        snapshots: snaps.into_pyarray(py).reshape([ns, 4])?.unbind(),
+        frames: kept.into_pyarray(py).reshape([nk, height, width])?.unbind(),
+        sigma_z,
+        dt,
+        filter_seed,
+    })
 }
 
 /// Tracks user frames `(F, H, W)` with one filter per row of `init` (`x, y, vx, vy`); keyword
@@ -246,7 +300,7 @@ fn pf_track<'py>(
     init: PyReadonlyArray2<'py, f64>,
     sigma_z: f64,
     options: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PfTrack> {
     let (opts, filter) = read_two::<PfTrackOptions, PfOptions>(options)?;
     let PfTrackOptions {
         method,
@@ -317,9 +371,7 @@ fn pf_track<'py>(
         )?;
         Ok(rec)
     })?;
-    let out = PyDict::new(py);
-    rec.into_dict(py, &out)?;
-    Ok(out)
+    rec.into_track(py)
 }
 
 /// Method 2 log weights of particles `xy` `(N, 2)` on `frame` `(H, W)` with the filter model
@@ -432,7 +484,7 @@ fn pf_study<'py>(
     py: Python<'py>,
     ic: PyReadonlyArray2<'py, f64>,
     options: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PfStudy> {
     let o = read_one::<PfStudyOptions>(options)?;
     let shape = ic.shape();
     if shape[1] != 2 {
@@ -490,63 +542,131 @@ fn pf_study<'py>(
     let rows = detached(py, || study(&cells, &opts, &mut check_signals))?;
     let n = rows.len();
     let t = opts.scenario.starts.len();
-    let col = |f: &dyn Fn(&geofeas_tracking::pf::CellResult) -> f64| -> Vec<f64> {
-        rows.iter().map(f).collect()
+    let col = |f: &dyn Fn(&CellResult) -> f64| -> Vec<f64> { rows.iter().map(f).collect() };
+    let filter_metrics = |pick: fn(&CellResult) -> &FilterMetrics| -> PyResult<Py<PfMetrics>> {
+        let c = |f: fn(&FilterMetrics) -> f64| -> Py<PyArray1<f64>> {
+            rows.iter()
+                .map(|r| f(pick(r)))
+                .collect::<Vec<_>>()
+                .into_pyarray(py)
+                .unbind()
+        };
+        Py::new(
+            py,
+            PfMetrics {
+                pca: c(|m| m.pca),
+                hit: c(|m| m.hit),
+                rmse_px: c(|m| m.rmse),
+                coverage: c(|m| m.coverage),
+                held: c(|m| m.held),
+            },
+        )
     };
-    let out = PyDict::new(py);
-    out.set_item(
-        "method",
-        rows.iter()
-            .map(|r| r.cell.method.number() as i64)
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
-    )?;
-    out.set_item("snr_db", col(&|r| r.cell.snr_db).into_pyarray(py))?;
-    out.set_item("xmax", col(&|r| r.cell.xmax).into_pyarray(py))?;
-    out.set_item("vmax", col(&|r| r.cell.vmax).into_pyarray(py))?;
-    out.set_item("pca", col(&|r| r.all.pca).into_pyarray(py))?;
-    out.set_item("hit", col(&|r| r.all.hit).into_pyarray(py))?;
-    out.set_item("rmse_px", col(&|r| r.all.rmse).into_pyarray(py))?;
-    out.set_item("coverage", col(&|r| r.all.coverage).into_pyarray(py))?;
-    out.set_item("held", col(&|r| r.all.held).into_pyarray(py))?;
-    for (name, f) in [
-        (
-            "gospa",
-            (|m| m.gospa) as fn(&geofeas_tracking::pf::BankMetrics) -> f64,
-        ),
-        ("gospa_loc", |m| m.gospa_loc),
-        ("gospa_missed", |m| m.gospa_missed),
-        ("gospa_false", |m| m.gospa_false),
-        ("id_switches", |m| m.id_switches),
-        ("fragmentations", |m| m.fragmentations),
-    ] {
-        out.set_item(name, col(&|r| f(&r.bank)).into_pyarray(py))?;
-    }
-    for (name, f) in [
-        (
-            "pca",
-            (|m| m.pca) as fn(&geofeas_tracking::pf::FilterMetrics) -> f64,
-        ),
-        ("hit", |m| m.hit),
-        ("rmse_px", |m| m.rmse),
-        ("coverage", |m| m.coverage),
-        ("held", |m| m.held),
-    ] {
-        out.set_item(format!("{name}_lo"), col(&|r| f(&r.lo)).into_pyarray(py))?;
-        out.set_item(format!("{name}_hi"), col(&|r| f(&r.hi)).into_pyarray(py))?;
-    }
-    let per = |f: &dyn Fn(&geofeas_tracking::pf::FilterMetrics) -> f64| -> Vec<f64> {
+    let bank = |f: fn(&BankMetrics) -> f64| -> Py<PyArray1<f64>> {
+        col(&|r| f(&r.bank)).into_pyarray(py).unbind()
+    };
+    let per = |f: &dyn Fn(&FilterMetrics) -> f64| -> Vec<f64> {
         rows.iter().flat_map(|r| r.filters.iter().map(f)).collect()
     };
-    out.set_item(
-        "filter_pca",
-        per(&|m| m.pca).into_pyarray(py).reshape([n, t])?,
-    )?;
-    out.set_item(
-        "filter_rmse_px",
-        per(&|m| m.rmse).into_pyarray(py).reshape([n, t])?,
-    )?;
-    Ok(out)
+    Ok(PfStudy {
+        method: rows
+            .iter()
+            .map(|r| r.cell.method.number() as i64)
+            .collect::<Vec<_>>()
+            .into_pyarray(py)
+            .unbind(),
+        snr_db: col(&|r| r.cell.snr_db).into_pyarray(py).unbind(),
+        xmax: col(&|r| r.cell.xmax).into_pyarray(py).unbind(),
+        vmax: col(&|r| r.cell.vmax).into_pyarray(py).unbind(),
+        all: filter_metrics(|r| &r.all)?,
+        lo: filter_metrics(|r| &r.lo)?,
+        hi: filter_metrics(|r| &r.hi)?,
+        bank: Py::new(
+            py,
+            PfBankMetrics {
+                gospa: bank(|m| m.gospa),
+                gospa_loc: bank(|m| m.gospa_loc),
+                gospa_missed: bank(|m| m.gospa_missed),
+                gospa_false: bank(|m| m.gospa_false),
+                id_switches: bank(|m| m.id_switches),
+                fragmentations: bank(|m| m.fragmentations),
+            },
+        )?,
+        filter_pca: per(&|m| m.pca).into_pyarray(py).reshape([n, t])?.unbind(),
+        filter_rmse_px: per(&|m| m.rmse).into_pyarray(py).reshape([n, t])?.unbind(),
+    })
+}
+
+/// Per-filter metrics of the study's rows, pooled over the filters and runs of each row (one
+/// array element per row).
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct PfMetrics {
+    /// Probability of correct association: the peak taken is nearer the filter's own target
+    /// than any other.
+    pca: Py<PyArray1<f64>>,
+    /// The peak taken is also within 3 px of that target.
+    hit: Py<PyArray1<f64>>,
+    /// Position RMSE, pixels.
+    rmse_px: Py<PyArray1<f64>>,
+    /// Fraction of errors inside the filters' 2-sigma bounds, per axis.
+    coverage: Py<PyArray1<f64>>,
+    /// Fraction of tracks whose error stays below 5 px over the last second.
+    held: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl PfMetrics {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("PfMetrics(rows={})", self.pca.bind(py).len())
+    }
+}
+
+/// Metrics of the whole bank of filters of the study's rows (one array element per row).
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct PfBankMetrics {
+    /// GOSPA and its localisation, missed and false parts.
+    gospa: Py<PyArray1<f64>>,
+    gospa_loc: Py<PyArray1<f64>>,
+    gospa_missed: Py<PyArray1<f64>>,
+    gospa_false: Py<PyArray1<f64>>,
+    /// Identity switches and track fragmentations.
+    id_switches: Py<PyArray1<f64>>,
+    fragmentations: Py<PyArray1<f64>>,
+}
+
+#[pymethods]
+impl PfBankMetrics {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!("PfBankMetrics(rows={})", self.gospa.bind(py).len())
+    }
+}
+
+/// The Monte-Carlo study of the particle filter: one row per cell (method, SNR, initial
+/// spread), the metrics pooled over its runs with their confidence interval bounds.
+#[pyclass(frozen, get_all, module = "geofeas._core")]
+pub struct PfStudy {
+    /// The cells: method (1 or 2), SNR in dB, initial position and velocity spreads.
+    method: Py<PyArray1<i64>>,
+    snr_db: Py<PyArray1<f64>>,
+    xmax: Py<PyArray1<f64>>,
+    vmax: Py<PyArray1<f64>>,
+    /// The per-filter metrics, and their interval's lower and upper bounds.
+    all: Py<PfMetrics>,
+    lo: Py<PfMetrics>,
+    hi: Py<PfMetrics>,
+    /// The bank metrics.
+    bank: Py<PfBankMetrics>,
+    /// `(rows, T)`: probability of correct association and RMSE of each filter.
+    filter_pca: Py<PyArray2<f64>>,
+    filter_rmse_px: Py<PyArray2<f64>>,
+}
+
+#[pymethods]
+impl PfStudy {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let s = self.filter_pca.bind(py).shape();
+        format!("PfStudy(rows={}, filters={})", s[0], s[1])
+    }
 }
 
 /// The option sets of the particle filter: `{"filter", "run", "track", "study"}` to lists of
@@ -569,5 +689,10 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(pf_peaks, m)?)?;
     m.add_function(wrap_pyfunction!(pf_render, m)?)?;
     m.add_function(wrap_pyfunction!(pf_study, m)?)?;
+    m.add_class::<PfTrack>()?;
+    m.add_class::<PfRun>()?;
+    m.add_class::<PfStudy>()?;
+    m.add_class::<PfMetrics>()?;
+    m.add_class::<PfBankMetrics>()?;
     Ok(())
 }

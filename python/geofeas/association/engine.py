@@ -74,35 +74,37 @@ class Association:
         The options used.
     """
 
-    def __init__(self, reports: Reports, raw: Mapping[str, Any], options: dict[str, Any]) -> None:
+    def __init__(
+        self, reports: Reports, raw: _core.AssociationOutput, options: dict[str, Any]
+    ) -> None:
         pd = _pandas()
         self.reports = reports
         self.options = options
         self._raw = raw
         #: The operator decisions the association was computed under (``Decisions``), if any.
         self.decisions: Any = None
-        self.candidates = int(raw["candidates"])
-        a = np.asarray(raw["a"], dtype=np.intp)
-        b = np.asarray(raw["b"], dtype=np.intp)
+        self.candidates = int(raw.candidates)
+        a = np.asarray(raw.a, dtype=np.intp)
+        b = np.asarray(raw.b, dtype=np.intp)
         self._a, self._b = a, b
-        self._score = np.asarray(raw["score"])
+        self._score = np.asarray(raw.score)
         ids = reports.track_ids
-        rank = np.asarray(raw["review_rank"], dtype=np.int64)
-        component = np.asarray(raw["component"], dtype=np.int64)
+        rank = np.asarray(raw.review_rank, dtype=np.int64)
+        component = np.asarray(raw.component, dtype=np.int64)
         self.pairs = pd.DataFrame(
             {
                 "track_a": ids[a],
                 "track_b": ids[b],
                 "score": self._score,
-                "instants": np.asarray(raw["instants"], dtype=np.int64),
-                "class": CLASSES[np.asarray(raw["class"], dtype=np.intp)],
-                "p_same": np.asarray(raw["p_same"], dtype=np.float64),
+                "instants": np.asarray(raw.instants, dtype=np.int64),
+                "class": CLASSES[np.asarray(raw.pair_class, dtype=np.intp)],
+                "p_same": np.asarray(raw.p_same, dtype=np.float64),
                 "review_rank": pd.array(np.where(rank > 0, rank, 0), dtype="Int64"),
-                "llr": np.asarray(raw["llr"], dtype=np.float64),
-                "std_error": np.asarray(raw["std_error"], dtype=np.float64),
-                "review_gain": np.asarray(raw["review_gain"], dtype=np.float64),
-                "settles_same": np.asarray(raw["settles_same"], dtype=np.int64),
-                "settles_different": np.asarray(raw["settles_different"], dtype=np.int64),
+                "llr": np.asarray(raw.llr, dtype=np.float64),
+                "std_error": np.asarray(raw.std_error, dtype=np.float64),
+                "review_gain": np.asarray(raw.review_gain, dtype=np.float64),
+                "settles_same": np.asarray(raw.settles_same, dtype=np.int64),
+                "settles_different": np.asarray(raw.settles_different, dtype=np.int64),
                 "component": pd.array(np.where(component < 2**32 - 1, component, 0), dtype="Int64"),
             }
         )
@@ -111,14 +113,12 @@ class Association:
         srcs = reports.sources
         self.inflation = {
             (srcs[int(a)], srcs[int(b)]): float(c)
-            for a, b, c in zip(
-                raw["inflation_a"], raw["inflation_b"], raw["inflation"], strict=True
-            )
+            for a, b, c in zip(raw.inflation_a, raw.inflation_b, raw.inflation, strict=True)
         }
         self.coverage = {
-            srcs[k]: float(p) for k, p in enumerate(np.asarray(raw["coverage"])) if k < len(srcs)
+            srcs[k]: float(p) for k, p in enumerate(np.asarray(raw.coverage)) if k < len(srcs)
         }
-        obj = np.asarray(raw["object"], dtype=np.int64)
+        obj = np.asarray(raw.object, dtype=np.int64)
         per_track_source = np.empty(reports.n_tracks, dtype=np.intp)
         per_track_source[reports.track] = reports.source
         self.objects = pd.DataFrame(
@@ -126,16 +126,16 @@ class Association:
                 "track_id": ids,
                 "object": obj,
                 "source": reports.sources[per_track_source] if reports.n_tracks else [],
-                "p_alone": np.asarray(raw["p_alone"], dtype=np.float64),
+                "p_alone": np.asarray(raw.p_alone, dtype=np.float64),
             }
         )
         methods = np.array(["exact", "sampled"], dtype=object)
         self.components = pd.DataFrame(
             {
-                "tracks": np.asarray(raw["component_tracks"], dtype=np.int64),
-                "method": methods[np.asarray(raw["component_method"], dtype=np.intp)],
-                "partitions": np.asarray(raw["component_partitions"], dtype=np.int64),
-                "max_std_error": np.asarray(raw["component_std_error"], dtype=np.float64),
+                "tracks": np.asarray(raw.component_tracks, dtype=np.int64),
+                "method": methods[np.asarray(raw.component_method, dtype=np.intp)],
+                "partitions": np.asarray(raw.component_partitions, dtype=np.int64),
+                "max_std_error": np.asarray(raw.component_std_error, dtype=np.float64),
             }
         )
 
@@ -176,14 +176,13 @@ class Association:
             {k: v for k, v in self.options.items() if k not in ASSOCIATION_DEFAULTS},
         )
         out = _core.association_finish(
-            {"source": raw["track_source"], "spread": raw["track_spread"], **raw["time_cover"]},
             {
-                "a": np.ascontiguousarray(raw["a"], dtype=np.uint32),
-                "b": np.ascontiguousarray(raw["b"], dtype=np.uint32),
-                "candidates": self.candidates,
-                **raw["stats"],
+                "source": raw.track_source,
+                "spread": raw.track_spread,
+                **_cover_columns(raw.time_cover),
             },
-            [raw["counts"]],
+            {"a": raw.a, "b": raw.b, "candidates": self.candidates, **_stats_columns(raw.stats)},
+            [_counts_dict(raw.counts)],
             dec,
             geographic=self.reports.coords == "geographic",
             options=core,
@@ -419,6 +418,43 @@ def associate(
     result = Association(rep, raw, recorded)
     result.decisions = dec
     return result
+
+
+def _stats_columns(s: _core.PairStats) -> dict[str, Any]:
+    """Pair summaries as the columns ``association_finish`` takes with the pairs."""
+    return {
+        "score": s.score,
+        "instants": s.instants,
+        "sum_m": s.sum_m,
+        "k_eff": s.k_eff,
+        "sum_mg": s.sum_mg,
+        "sum_ln_det": s.sum_ln_det,
+        "mean_trace_over_det": s.mean_trace_over_det,
+        "mean_inv_det": s.mean_inv_det,
+        "pos_0": s.pos_0,
+        "pos_1": s.pos_1,
+    }
+
+
+def _cover_columns(c: _core.TimeCover) -> dict[str, Any]:
+    """A time cover as the columns ``association_finish`` takes with the tracks."""
+    return {
+        "cover_offsets": c.cover_offsets,
+        "cover_start": c.cover_start,
+        "cover_end": c.cover_end,
+    }
+
+
+def _counts_dict(c: _core.PictureCounts) -> dict[str, Any]:
+    """Picture counts as the mapping ``association_finish`` takes (and merges)."""
+    return {
+        "micros": c.micros,
+        "cell_source": c.cell_source,
+        "cell_row": c.cell_row,
+        "cell_col": c.cell_col,
+        "cell_micros": c.cell_micros,
+        "time": c.time,
+    }
 
 
 def load_association(directory: str | os.PathLike[str], /) -> Association:

@@ -66,6 +66,7 @@ from ..association import (
     read_reports,
 )
 from ..association.decisions import Decisions, read_decisions
+from ..association.engine import _counts_dict, _cover_columns, _stats_columns
 from ._tiling import Grid, explode, owner
 
 try:
@@ -153,19 +154,19 @@ def _combine(
     out: dict[str, Any] = {
         "track_id": track_ids,
         "source": source,
-        "start": raw["start"],
-        "end": raw["end"],
-        "reports": raw["reports"].astype(np.int64),
-        "halo": raw["halo"],
-        "spread": raw["spread"],
+        "start": raw.start,
+        "end": raw.end,
+        "reports": raw.reports.astype(np.int64),
+        "halo": raw.halo,
+        "spread": raw.spread,
     }
     dims = [0, 1, 2, 3] if geo else [0, 1, 3]  # planar boxes have no z
     for j, k in enumerate(dims):
-        out[f"lo{j}"] = raw["lo"][:, k]
-        out[f"hi{j}"] = raw["hi"][:, k]
-    out["first_time"] = raw["first_time"]
+        out[f"lo{j}"] = raw.lo[:, k]
+        out[f"hi{j}"] = raw.hi[:, k]
+    out["first_time"] = raw.first_time
     for k, name in enumerate(PLANAR if coords == "planar" else GEOGRAPHIC):
-        out[f"first_{name}"] = raw["first_aou"][:, k]
+        out[f"first_{name}"] = raw.first_aou[:, k]
     return pd.DataFrame(out)
 
 
@@ -360,8 +361,8 @@ def _home_counts(
         n_tracks=len(tracks),
         coords=rep.coords,
     )
-    counts, cover = _core.association_track_summary(home_reports, options=options)
-    cover = dict(cover)
+    summary = _core.association_track_summary(home_reports, options=options)
+    counts, cover = _counts_dict(summary[0]), _cover_columns(summary[1])
     cover["track"] = gid[tracks]
     # the tile numbers sources among those it holds; map them to the picture's indices
     glob = np.searchsorted(sources, rep.sources).astype(np.int64)
@@ -436,12 +437,14 @@ def _score_tiles(
                 "not meet: the halo bound is broken"
             )
         mine = keys == tile
-        stats = _core.association_pair_stats(
-            rep,
-            np.ascontiguousarray(a[mine]),
-            np.ascontiguousarray(b[mine]),
-            options=options,
-            stream_ids=np.ascontiguousarray(gid, dtype=np.uint32),
+        stats = _stats_columns(
+            _core.association_pair_stats(
+                rep,
+                np.ascontiguousarray(a[mine]),
+                np.ascontiguousarray(b[mine]),
+                options=options,
+                stream_ids=np.ascontiguousarray(gid, dtype=np.uint32),
+            )
         )
         frame: dict[str, Any] = {
             "a": ga[mine].astype(np.uint32),
@@ -486,7 +489,7 @@ class DistributedAssociation(Association):
     def __init__(
         self,
         reports: Reports,
-        raw: Mapping[str, Any],
+        raw: _core.AssociationOutput,
         options: dict[str, Any],
         tracks: pd.DataFrame,
         tiles: int,

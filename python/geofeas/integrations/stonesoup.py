@@ -802,9 +802,9 @@ def align_tracks(
         np.ascontiguousarray(grid),
         alignment={"max_gap": max_gap, "horizon": horizon, "process_noise": process_noise},
     )
-    which = np.asarray(out["track"], dtype=np.int64)
-    index = np.asarray(out["index"], dtype=np.int64)
-    state = np.asarray(out["state"], dtype=np.float64)
+    which = np.asarray(out.track, dtype=np.int64)
+    index = np.asarray(out.index, dtype=np.int64)
+    state = np.asarray(out.state, dtype=np.float64)
     bounds = np.searchsorted(which, np.arange(len(tracks) + 1))
     stamps = [_timestamp(float(t)) for t in grid]
     aligned = []

@@ -362,10 +362,10 @@ class Station:
             ib,
             alignment={k: float(o[k]) for k in ("max_gap", "horizon", "process_noise")},
         )
-        t = np.asarray(raw["time"])
-        sa, sb = np.asarray(raw["state_a"]), np.asarray(raw["state_b"])
+        t = np.asarray(raw.time)
+        sa, sb = np.asarray(raw.state_a), np.asarray(raw.state_b)
         infl = self._inflation(s.result, row["source_a"], row["source_b"])
-        sigma = np.sqrt(np.asarray(raw["m"]) / infl)
+        sigma = np.sqrt(np.asarray(raw.m) / infl)
         pos = np.r_[sa[:, :2], sb[:, :2]]
         if geographic and len(pos):
             lat0, lon0 = float(np.median(pos[:, 0])), float(np.median(pos[:, 1]))

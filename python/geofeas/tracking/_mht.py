@@ -250,7 +250,13 @@ def mht_track(
             "sensors: expected shape (s, 6) with columns x, y, boresight, half_beam, max_range, "
             f"max_range_rate; got {sen.shape}"
         )
-    return dict(_core.mht_track(det, sen, **options))
+    r = _core.mht_track(det, sen, **options)
+    return {
+        "tracks": r.tracks,
+        "ellipses": r.ellipses,
+        "track_of_detection": r.track_of_detection,
+        "probability": r.probability,
+    }
 
 
 #: Columns of :meth:`MhtTracker.estimates`.
@@ -447,7 +453,16 @@ def mht_simulate_run(
         the paper-faithful configuration (plain EKF, ``Q = 4 g`` read as a covariance, new-target
         rate 1e-8); the other options then apply to ``"mht"`` and ``"single"`` only.
     """
-    return dict(_core.mht_simulate_run(**_pick("run", locals())))
+    r = _core.mht_simulate_run(**_pick("run", locals()))
+    return {
+        "detections": r.detections,
+        "tracks": r.tracks,
+        "ellipses": r.ellipses,
+        "truth": r.truth,
+        "sensors": r.sensors,
+        "metrics": dict(zip(METRICS, r.metrics.tolist(), strict=True)),
+        "duration": r.duration,
+    }
 
 
 def mht_study(
@@ -493,10 +508,17 @@ def mht_study(
         Columns :data:`STUDY_COLUMNS`: numeric arrays and ``tracker``, a list of names from
         :data:`TRACKERS`.
     """
-    out = dict(_core.mht_study(**_pick("study", locals())))
-    for key in ("targets", "sensors", "false_alarms"):
-        out[key] = out[key].astype(np.int64)
-    out["runs"] = np.full(len(out["tracker"]), int(runs), dtype=np.int64)
+    r = _core.mht_study(**_pick("study", locals()))
+    out: dict[str, Any] = {
+        "targets": r.targets,
+        "sensors": r.sensors,
+        "false_alarms": r.false_alarms,
+        "tracker": list(r.tracker),
+        "runs": np.full(len(r.tracker), int(runs), dtype=np.int64),
+    }
+    for table, suffix in ((r.metrics, ""), (r.metrics_lo, "_lo"), (r.metrics_hi, "_hi")):
+        for j, name in enumerate(METRICS):
+            out[name + suffix] = np.ascontiguousarray(table[:, j])
     return {k: out[k] for k in STUDY_COLUMNS}
 
 

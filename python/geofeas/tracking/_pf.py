@@ -181,12 +181,35 @@ def pf_simulate_run(
         ``sigma_z``, ``dt``, ``times`` ``(F,)`` and ``filter_seed`` (the seed of the filters'
         particles: :func:`pf_track` with it on the run's frames reproduces the run exactly).
     """
-    out = dict(_core.pf_simulate_run(**_pick(("run", "filter"), locals())))
-    out["pca"] = out["correct"].mean(axis=0)
-    out["times"] = np.arange(out["truth"].shape[0]) * out["dt"]
-    out["method"] = int(method)
-    out["snr_db"] = float(snr_db)
+    r = _core.pf_simulate_run(**_pick(("run", "filter"), locals()))
+    out = _track_dict(r.track)
+    out.update(
+        truth=r.truth,
+        correct=r.correct,
+        snapshots=r.snapshots,
+        frames=r.frames,
+        sigma_z=r.sigma_z,
+        dt=r.dt,
+        filter_seed=r.filter_seed,
+        pca=r.correct.mean(axis=0),
+        times=np.arange(r.truth.shape[0]) * r.dt,
+        method=int(method),
+        snr_db=float(snr_db),
+    )
     return out
+
+
+def _track_dict(t: _core.PfTrack) -> dict[str, Any]:
+    """The public dict of a bank's track."""
+    return {
+        "estimates": t.estimates,
+        "covariances": t.covariances,
+        "peaks": t.peaks,
+        "peak": t.peak,
+        "distances": t.distances,
+        "residuals": t.residuals,
+        "ess": t.ess,
+    }
 
 
 def pf_track(
@@ -242,7 +265,7 @@ def pf_track(
     x0 = as_float_array(init, "init")
     if x0.ndim != 2 or x0.shape[1] != 4:
         raise GeofeasError(f"init: expected shape (n, 4) with columns x, y, vx, vy; got {x0.shape}")
-    return dict(_core.pf_track(f, x0, sigma_z=_float(sigma_z, "sigma_z"), **options))
+    return _track_dict(_core.pf_track(f, x0, sigma_z=_float(sigma_z, "sigma_z"), **options))
 
 
 def pf_log_weights(
@@ -368,7 +391,35 @@ def pf_study(
     ic_arr = as_float_array(ic, "ic")
     if ic_arr.ndim != 2 or ic_arr.shape[1] != 2:
         raise GeofeasError(f"ic: expected shape (n, 2) with columns xmax, vmax; got {ic_arr.shape}")
-    return dict(_core.pf_study(ic_arr, **options))
+    r = _core.pf_study(ic_arr, **options)
+    out: dict[str, Any] = {"method": r.method, "snr_db": r.snr_db, "xmax": r.xmax, "vmax": r.vmax}
+    out.update(_metrics_dict(r.all, ""))
+    b = r.bank
+    out.update(
+        gospa=b.gospa,
+        gospa_loc=b.gospa_loc,
+        gospa_missed=b.gospa_missed,
+        gospa_false=b.gospa_false,
+        id_switches=b.id_switches,
+        fragmentations=b.fragmentations,
+    )
+    lo, hi = _metrics_dict(r.lo, "_lo"), _metrics_dict(r.hi, "_hi")
+    for (k_lo, v_lo), (k_hi, v_hi) in zip(lo.items(), hi.items(), strict=True):
+        out[k_lo], out[k_hi] = v_lo, v_hi
+    out["filter_pca"] = r.filter_pca
+    out["filter_rmse_px"] = r.filter_rmse_px
+    return out
+
+
+def _metrics_dict(m: _core.PfMetrics, suffix: str) -> dict[str, NDArray[np.float64]]:
+    """The study's per-filter metric columns, named with ``suffix``."""
+    return {
+        f"pca{suffix}": m.pca,
+        f"hit{suffix}": m.hit,
+        f"rmse_px{suffix}": m.rmse_px,
+        f"coverage{suffix}": m.coverage,
+        f"held{suffix}": m.held,
+    }
 
 
 def pf_ellipses(result: dict[str, Any], frame: int = -1) -> NDArray[np.float64]:
