@@ -193,18 +193,29 @@ proptest! {
     }
 }
 
-/// Reports of a ship on a straight line seen by a source with noise `sigma` every `dt` seconds.
-#[allow(clippy::too_many_arguments)]
-fn observe(
-    rng: &mut Xoshiro256PlusPlus,
-    track: u32,
-    src: u32,
+/// A ship on a straight line: its position at t = 0 and its velocity.
+struct Ship {
     start: [f64; 2],
     v: [f64; 2],
+}
+
+/// How a source sees a ship: under which track number, every `dt` seconds, with noise `sigma`.
+struct Seen {
+    track: u32,
+    src: u32,
     dt: f64,
     sigma: f64,
-    out: &mut Columns,
-) {
+}
+
+/// Reports of `ship` as `seen` by a source, appended to `out`.
+fn observe(rng: &mut Xoshiro256PlusPlus, ship: Ship, seen: Seen, out: &mut Columns) {
+    let Ship { start, v } = ship;
+    let Seen {
+        track,
+        src,
+        dt,
+        sigma,
+    } = seen;
     let noise = Normal::new(0.0, sigma).unwrap();
     let offset = rng.random_range(0.0..dt);
     let mut t = offset;
@@ -231,16 +242,46 @@ fn one_ship_two_sources_scores_higher_than_two_ships_passing() {
         let mut d = (vec![], vec![], vec![], vec![]);
         // ship 0 seen by AIS (track 0) and radar (track 1); ship 1 passes ship 0 head-on
         // 400 m abeam (radar AOU 2-sigma 100 m, AIS 30 m: a safe distance)
-        observe(&mut rng, 0, 0, [0.0, 0.0], [6.0, 0.0], 10.0, 15.0, &mut d);
-        observe(&mut rng, 1, 1, [0.0, 0.0], [6.0, 0.0], 3.0, 50.0, &mut d);
         observe(
             &mut rng,
-            2,
-            1,
-            [7200.0, 400.0],
-            [-6.0, 0.0],
-            3.0,
-            50.0,
+            Ship {
+                start: [0.0, 0.0],
+                v: [6.0, 0.0],
+            },
+            Seen {
+                track: 0,
+                src: 0,
+                dt: 10.0,
+                sigma: 15.0,
+            },
+            &mut d,
+        );
+        observe(
+            &mut rng,
+            Ship {
+                start: [0.0, 0.0],
+                v: [6.0, 0.0],
+            },
+            Seen {
+                track: 1,
+                src: 1,
+                dt: 3.0,
+                sigma: 50.0,
+            },
+            &mut d,
+        );
+        observe(
+            &mut rng,
+            Ship {
+                start: [7200.0, 400.0],
+                v: [-6.0, 0.0],
+            },
+            Seen {
+                track: 2,
+                src: 1,
+                dt: 3.0,
+                sigma: 50.0,
+            },
             &mut d,
         );
         let r = Reports::new(Coords::Planar, 3, &d.0, &d.1, &d.2, &d.3).unwrap();
@@ -286,32 +327,44 @@ fn geographic_agrees_with_planar_after_an_exact_projection() {
         let mut d = (vec![], vec![], vec![], vec![]);
         observe(
             &mut rng,
-            0,
-            0,
-            [-2000.0, -300.0],
-            [4.0, 0.5],
-            10.0,
-            15.0,
+            Ship {
+                start: [-2000.0, -300.0],
+                v: [4.0, 0.5],
+            },
+            Seen {
+                track: 0,
+                src: 0,
+                dt: 10.0,
+                sigma: 15.0,
+            },
             &mut d,
         );
         observe(
             &mut rng,
-            1,
-            1,
-            [-2000.0, -300.0],
-            [4.0, 0.5],
-            4.0,
-            40.0,
+            Ship {
+                start: [-2000.0, -300.0],
+                v: [4.0, 0.5],
+            },
+            Seen {
+                track: 1,
+                src: 1,
+                dt: 4.0,
+                sigma: 40.0,
+            },
             &mut d,
         );
         observe(
             &mut rng,
-            2,
-            1,
-            [2000.0, 200.0],
-            [-3.0, 0.0],
-            6.0,
-            300.0,
+            Ship {
+                start: [2000.0, 200.0],
+                v: [-3.0, 0.0],
+            },
+            Seen {
+                track: 2,
+                src: 1,
+                dt: 6.0,
+                sigma: 300.0,
+            },
             &mut d,
         );
         for row in d.3.iter_mut() {
