@@ -586,46 +586,6 @@ def test_wilson_interval_holds_the_observed_frequency(n):
     assert table["observed_hi"].iloc[0] == pytest.approx(z2 / (n + z2))
 
 
-# F1 of the automatic matches with AIS and radar; with every source, where the aircraft and HF
-# DF pairs geometry cannot decide go to the operator, F1 after 100 truthful decisions
-@pytest.mark.parametrize(
-    "sensors, decisions, bound", [("ais,radar", 0, 0.9), ("ais,radar,aircraft,hfdf", 100, 0.95)]
-)
-def test_demo_command_end_to_end(tmp_path, capsys, sensors, decisions, bound):
-    from geofeas.cli import main
-
-    out = tmp_path / "demo"
-    args = [
-        "demo",
-        "--minutes",
-        "10",
-        "--sensors",
-        sensors,
-        "--out",
-        str(out),
-        "--no-progress",
-    ]
-    assert main(args) == 0
-    text = capsys.readouterr().out
-    assert "removed 1 row(s): physically impossible jump" in text
-    assert "precision" in text and "expected calibration error" in text
-    assert "F1 after truthful decisions" in text
-    for name in ("reports.csv", "pairs.csv", "metrics.csv", "metrics_by_sources.csv", "map.png"):
-        assert (out / name).stat().st_size > 0
-    metrics = pd.read_csv(out / "metrics.csv")
-    default = metrics.iloc[0]
-    assert default["config"] == "default" and default["combine"] == "chi2"
-    assert default["precision"] >= 0.99
-    operator = pd.read_csv(out / "operator.csv").set_index("decisions")
-    assert operator.loc[0, "f1"] == pytest.approx(default["f1"], abs=1e-4)
-    assert operator.loc[decisions, "f1"] > bound
-    assert default["n_match"] + default["n_borderline"] + default["n_non-match"] == len(
-        pd.read_csv(out / "pairs.csv")
-    )
-    reports = pd.read_csv(out / "reports.csv")
-    assert set(reports["source"]) == set(sensors.split(","))
-
-
 def test_old_module_paths_warn_and_are_the_moved_modules():
     import importlib
     import sys
