@@ -28,9 +28,6 @@ import geofeas  # noqa: E402
 import geofeas.integrations.dask as gd  # noqa: E402
 from geofeas import GeofeasError  # noqa: E402
 
-# the module-scoped fixtures are built once: the whole file on one worker of a parallel run
-pytestmark = pytest.mark.xdist_group("dask")
-
 # the worker plugin below travels to the worker processes by value
 cloudpickle.register_pickle_by_value(sys.modules[__name__])
 

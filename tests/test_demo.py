@@ -22,9 +22,6 @@ from geofeas.demo.scenario import (
 )
 from geofeas.io.ais import read_ais
 
-# the module-scoped fixtures are built once: the whole file on one worker of a parallel run
-pytestmark = pytest.mark.xdist_group("demo")
-
 SOLENT_HEADER = "Time,MMSI,Latitude_degrees,Longitude_degrees,COG_degrees,SOG_knots\n"
 MC_HEADER = (
     "BaseDateTime,LON,LAT,MMSI,SOG,COG,Heading,VesselName,IMO,CallSign,VesselType,Status,"

@@ -8,9 +8,6 @@ import geofeas
 
 import reference as ref
 
-# the module-scoped fixtures are built once: the whole file on one worker of a parallel run
-pytestmark = pytest.mark.xdist_group("exact")
-
 TOL = 1e-11
 
 

@@ -22,8 +22,6 @@ import geofeas
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 pytestmark = [
     pytest.mark.skipif(CHROMIUM is None, reason="no system chromium (apt-get install chromium)"),
-    # one browser and one server per module: the whole file on one worker of a parallel run
-    pytest.mark.xdist_group("review_browser"),
 ]
 sync_api = pytest.importorskip("playwright.sync_api", reason="needs playwright (pip)")
 pytest.importorskip("uvicorn")

@@ -30,9 +30,6 @@ from geofeas.demo.scenario import simulate  # noqa: E402
 from geofeas.integrations.stonesoup import GLRMeasure, align_tracks, reports_to_tracks  # noqa: E402
 from geofeas.io.ais import read_ais  # noqa: E402
 
-# the module-scoped fixtures are built once: the whole file on one worker of a parallel run
-pytestmark = pytest.mark.xdist_group("stonesoup_align")
-
 T0 = datetime(2024, 5, 1, 12, 0, 0)
 
 
