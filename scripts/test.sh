@@ -19,7 +19,8 @@ echo "== install the test tools"
 "$PY" -m pip install --quiet --disable-pip-version-check "maturin>=1.7,<2"
 # the test extra's requirements (expanded through the extras it names) install in the background
 # while cargo compiles; the wheel's own install below then finds them in place. Without tomllib
-# (Python 3.10) that install does all the work instead.
+# (Python 3.10) that install does all the work instead. No byte-compiling of every installed
+# module: the tests compile the few they import.
 deps_log=$(mktemp)
 deps=$("$PY" - <<'PYEOF' || true
 try:
@@ -44,7 +45,7 @@ PYEOF
 deps_pid=
 if [ -n "$deps" ]; then
     printf '%s\n' "$deps" > "$deps_log.req"
-    "$PY" -m pip install --quiet --disable-pip-version-check -r "$deps_log.req" > "$deps_log" 2>&1 &
+    "$PY" -m pip install --quiet --disable-pip-version-check --no-compile -r "$deps_log.req" > "$deps_log" 2>&1 &
     deps_pid=$!
 fi
 
