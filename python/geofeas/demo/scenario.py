@@ -1,6 +1,6 @@
 """Simulated multi-source maritime picture over a real AIS recording.
 
-The trajectories are real (an :class:`~geofeas.ais.AisRecording`, linearly interpolated between
+The trajectories are real (an :class:`~geofeas.io.ais.AisRecording`, linearly interpolated between
 reports); the sources observing them are simulated, each with its own track numbering, detection
 probability, track breaks after missed updates and false tracks:
 
@@ -758,7 +758,7 @@ def simulate(
     Parameters
     ----------
     recording : AisRecording
-        From :func:`geofeas.ais.read_ais`.
+        From :func:`geofeas.io.ais.read_ais`.
     sensors : sequence of str or sensor objects, optional
         Names from :data:`SENSORS` (default parameters) or configured :class:`AisSensor`,
         :class:`CoastalRadar`, :class:`PatrolAircraft`, :class:`HfDf` objects.
