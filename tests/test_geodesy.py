@@ -134,3 +134,34 @@ def test_aou_from_covariance_is_the_eigen_decomposition(rng):
     rx2, ry2, b2 = scenario.aou_from_covariance(cov[:6].reshape(2, 3, 2, 2))
     assert rx2.shape == (2, 3) and np.array_equal(rx2.ravel(), rx[:6])
     assert scenario.aou_from_covariance(np.zeros((0, 2, 2)))[0].shape == (0,)
+
+
+def test_library_geodesy_broadcasts_and_is_geographiclibs(rng):
+    from geofeas import geodesy
+
+    # one point against a (2, 3) grid of points: the shape follows NumPy broadcasting and every
+    # value is geographiclib's
+    lat2, lon2 = rng.uniform(40, 60, (2, 3)), rng.uniform(-10, 10, (2, 3))
+    s12, azi1, azi2 = geodesy.inverse(50.0, 0.0, lat2, lon2)
+    assert s12.shape == azi1.shape == azi2.shape == (2, 3)
+    for k in np.ndindex(2, 3):
+        g = Geodesic.WGS84.Inverse(50.0, 0.0, lat2[k], lon2[k])
+        assert s12[k] == pytest.approx(g["s12"], abs=1e-6)
+        assert _angle(azi2[k], g["azi2"]) == pytest.approx(0.0, abs=1e-9)
+    # direct undoes inverse, on strided (non-contiguous) input columns
+    la, lo, _ = geodesy.direct(np.full((3, 2), 50.0).T, 0.0, azi1, s12)
+    assert np.allclose(la, lat2, atol=1e-9) and np.allclose(lo, lon2, atol=1e-9)
+    with pytest.raises(GeofeasError, match="lat2"):
+        geodesy.inverse(0.0, 0.0, [10.0, 91.0], 0.0)
+
+
+def test_metres_per_degree_is_the_geodesic_length_of_a_small_step():
+    from geofeas import geodesy
+
+    lat = np.array([0.0, 35.0, 50.7, 70.0])
+    m_lat, m_lon = geodesy.metres_per_degree(lat)
+    step = 1e-4
+    s_north, _, _ = geodesy.inverse(lat - step / 2, 0.0, lat + step / 2, 0.0)
+    s_east, _, _ = geodesy.inverse(lat, 0.0, lat, step)
+    assert np.allclose(m_lat * step, s_north, rtol=1e-7)
+    assert np.allclose(m_lon * step, s_east, rtol=1e-7)

@@ -26,9 +26,10 @@ import pandas as pd
 from .._atomic import atomic_path, save_figure, write_text
 from .._core import GeofeasError
 from ..association import COMBINE_RULES, associate, read_reports
+from ..geodesy import metres_per_degree
 from ..io.ais import AisRecording, read_ais
 from .evaluate import Metrics, evaluate, labels, reliability, simulate_operator, track_table
-from .scenario import Scenario, metres_per_degree, simulate
+from .scenario import Scenario, simulate
 
 __all__ = ["RECORDINGS", "SCORES", "DemoResult", "Progress", "bundled", "plot_map", "run"]
 

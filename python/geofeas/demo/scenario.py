@@ -39,8 +39,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .. import _core
+from .. import geodesy
 from .._core import GeofeasError
+from ..geodesy import metres_per_degree
 from ..io.ais import AisRecording
 from ..scores import from_gaussian, to_gaussian
 
@@ -59,39 +60,14 @@ __all__ = [
 
 REPORT_COLUMNS = ("track_id", "source", "time", "lat", "lon", "rx", "ry", "bearing", "mmsi")
 
-_A, _F = _core.WGS84_A, _core.WGS84_F  # WGS84, from the core's geodesy
-_E2 = _F * (2 - _F)
-
-
 # ----------------------------------------------------------------------------------- geometry
-
-
-def metres_per_degree(lat: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Metres per degree of latitude and of longitude at ``lat`` on the WGS84 ellipsoid.
-
-    The meridional radius ``M = a (1 - e^2) / W^3`` and the prime-vertical radius ``N = a / W``
-    with ``W = sqrt(1 - e^2 sin^2 lat)``; a small east/north offset ``(de, dn)`` in metres is
-    ``(de / (N cos lat), dn / M)`` in radians.
-    """
-    p = np.radians(lat)
-    w = np.sqrt(1 - _E2 * np.sin(p) ** 2)
-    m = _A * (1 - _E2) / w**3
-    n = _A / w
-    return np.radians(1.0) * m, np.radians(1.0) * n * np.cos(p)
-
-
-def _columns(*values: Any) -> tuple[tuple[int, ...], list[np.ndarray]]:
-    """The broadcast shape of ``values`` and each as a contiguous float64 column."""
-    arrays = np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in values))
-    return arrays[0].shape, [np.ascontiguousarray(a).ravel() for a in arrays]
 
 
 def _direct(lat: Any, lon: Any, azi: Any, dist: Any) -> tuple[np.ndarray, np.ndarray]:
     """The ends of the WGS84 geodesics of ``dist`` metres leaving ``(lat, lon)`` at azimuth
-    ``azi`` (degrees clockwise from north), broadcast (the core's ``geodesic_direct``)."""
-    shape, cols = _columns(lat, lon, azi, dist)
-    la, lo, _ = _core.geodesic_direct(*cols)
-    return la.reshape(shape), lo.reshape(shape)
+    ``azi`` (degrees clockwise from north), broadcast."""
+    la, lo, _ = geodesy.direct(lat, lon, azi, dist)
+    return la, lo
 
 
 def _offset(lat: np.ndarray, lon: np.ndarray, de: np.ndarray, dn: np.ndarray) -> tuple[Any, Any]:
@@ -111,9 +87,8 @@ def _range_bearing(lat1: Any, lon1: Any, lat2: Any, lon2: Any) -> tuple[np.ndarr
     """Geodesic range (m) from point 1 to point 2 and the bearing of the line of sight *at
     point 2* (degrees in ``[0, 360)`` clockwise from north, pointing away from point 1): the
     WGS84 geodesic's length and forward azimuth at point 2 (the core's ``geodesic_inverse``)."""
-    shape, cols = _columns(lat1, lon1, lat2, lon2)
-    s12, _, azi2 = _core.geodesic_inverse(*cols)
-    return s12.reshape(shape), (azi2 % 360.0).reshape(shape)
+    s12, _, azi2 = geodesy.inverse(lat1, lon1, lat2, lon2)
+    return s12, azi2 % 360.0
 
 
 def covariance_from_aou(rx: Any, ry: Any, bearing_deg: Any) -> np.ndarray:

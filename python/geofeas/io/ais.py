@@ -29,12 +29,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pandas as pd
 
-from .. import _core
+from .. import geodesy
 from .._core import GeofeasError
 
 __all__ = ["AIS_SCHEMAS", "FIELD_ALIASES", "AisRecording", "read_ais"]
@@ -193,17 +192,10 @@ def _times(frame: pd.DataFrame, column: str, source: str) -> np.ndarray:
     return ((parsed - epoch) / pd.Timedelta(seconds=1)).to_numpy(dtype=np.float64)
 
 
-def _distance(lat1: Any, lon1: Any, lat2: Any, lon2: Any) -> np.ndarray:
-    """Geodesic distance in metres on the WGS84 ellipsoid (the core's geodesy; degrees in)."""
-    args = [np.atleast_1d(np.asarray(v, dtype=np.float64)) for v in (lat1, lon1, lat2, lon2)]
-    s12, _, _ = _core.geodesic_inverse(*np.broadcast_arrays(*args))
-    return np.asarray(s12)
-
-
 def _reachable(
     lat: np.ndarray, lon: np.ndarray, t: np.ndarray, i: int, j: int, vmax: float, slack: float
 ) -> bool:
-    d = float(_distance(lat[i], lon[i], lat[j], lon[j])[0])
+    d = float(geodesy.inverse(lat[i], lon[i], lat[j], lon[j])[0])
     return d <= vmax * abs(t[j] - t[i]) + slack
 
 
@@ -220,7 +212,7 @@ def _consistent(
     keep = np.ones(n, dtype=bool)
     if n < 2:
         return keep
-    d = _distance(lat[:-1], lon[:-1], lat[1:], lon[1:])
+    d, _, _ = geodesy.inverse(lat[:-1], lon[:-1], lat[1:], lon[1:])
     jump = d > vmax * np.diff(t) + slack
     if not jump.any():
         return keep

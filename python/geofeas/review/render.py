@@ -15,7 +15,7 @@ from typing import Any, cast
 
 import numpy as np
 
-from ..demo.scenario import metres_per_degree
+from ..geodesy import metres_per_degree
 from .station import PairDetail
 
 __all__ = ["BANDS", "distance_svg", "map_svg", "pair_payload"]

@@ -23,7 +23,7 @@ import pandas as pd
 from .. import _core
 from .._core import GeofeasError
 from ..association import Association, Reports, associate, read_reports
-from ..demo.scenario import metres_per_degree
+from ..geodesy import metres_per_degree
 from .coast import Coastline, coastline
 from .log import DecisionLog, spans_of
 
