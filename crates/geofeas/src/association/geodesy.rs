@@ -115,37 +115,14 @@ pub fn offset(a: [f64; 2], east_north: [f64; 2]) -> ([f64; 2], f64) {
 /// ```
 pub fn project_aeqd(origin: [f64; 2], rows: &[[f64; 5]]) -> crate::Result<Vec<[f64; 5]>> {
     use crate::error::Error;
-    fn check(what: &'static str, row: usize, field: &'static str, v: f64) -> crate::Result<()> {
-        let limit = if field == "lat" { 90.0 } else { 180.0 };
-        if !v.is_finite() {
-            return Err(Error::NonFinite {
-                what,
-                row,
-                field,
-                value: v,
-            });
-        }
-        if v.abs() > limit {
-            return Err(Error::OutOfDomain {
-                what,
-                row,
-                field,
-                value: v,
-                reason: if field == "lat" {
-                    "latitude must be in [-90, 90]"
-                } else {
-                    "longitude must be in [-180, 180]"
-                },
-            });
-        }
-        Ok(())
-    }
-    check("origin", 0, "lat", origin[0]).map_err(|e| e.in_argument("origin"))?;
-    check("origin", 0, "lon", origin[1]).map_err(|e| e.in_argument("origin"))?;
+    check_coordinate("origin", 0, "lat", origin[0], Some(LATITUDE))
+        .map_err(|e| e.in_argument("origin"))?;
+    check_coordinate("origin", 0, "lon", origin[1], Some(LONGITUDE))
+        .map_err(|e| e.in_argument("origin"))?;
     let mut out = Vec::with_capacity(rows.len());
     for (row, &[lat, lon, rx, ry, bearing]) in rows.iter().enumerate() {
-        check("report", row, "lat", lat)?;
-        check("report", row, "lon", lon)?;
+        check_coordinate("report", row, "lat", lat, Some(LATITUDE))?;
+        check_coordinate("report", row, "lon", lon, Some(LONGITUDE))?;
         for (field, value) in [("rx", rx), ("ry", ry), ("bearing", bearing)] {
             if !value.is_finite() {
                 return Err(Error::NonFinite {
@@ -187,6 +164,40 @@ pub fn direct(a: [f64; 2], azi1: f64, s12: f64) -> ([f64; 2], f64) {
     ([lat, wrap_lon(lon)], azi2)
 }
 
+/// Latitudes in `[-90, 90]` and longitudes in `[-180, 180]`, with the reason given when refused.
+const LATITUDE: (f64, &str) = (90.0, "latitude must be in [-90, 90]");
+const LONGITUDE: (f64, &str) = (180.0, "longitude must be in [-180, 180]");
+
+/// `value` of `field` in row `row` of `what`: finite, and within `[-bound, bound]` when a bound
+/// is given (refused with its reason).
+fn check_coordinate(
+    what: &'static str,
+    row: usize,
+    field: &'static str,
+    value: f64,
+    bound: Option<(f64, &'static str)>,
+) -> crate::Result<()> {
+    use crate::error::Error;
+    if !value.is_finite() {
+        return Err(Error::NonFinite {
+            what,
+            row,
+            field,
+            value,
+        });
+    }
+    match bound {
+        Some((limit, reason)) if value.abs() > limit => Err(Error::OutOfDomain {
+            what,
+            row,
+            field,
+            value,
+            reason,
+        }),
+        _ => Ok(()),
+    }
+}
+
 /// Checks the columns of a batch of points: equal lengths, finite values, latitudes in
 /// `[-90, 90]`; errors name the row and the column.
 fn check_columns(what: &'static str, columns: [(&'static str, &[f64]); 4]) -> crate::Result<()> {
@@ -200,24 +211,9 @@ fn check_columns(what: &'static str, columns: [(&'static str, &[f64]); 4]) -> cr
         });
     }
     for (field, column) in columns {
+        let bound = field.starts_with("lat").then_some(LATITUDE);
         for (row, &value) in column.iter().enumerate() {
-            if !value.is_finite() {
-                return Err(Error::NonFinite {
-                    what,
-                    row,
-                    field,
-                    value,
-                });
-            }
-            if field.starts_with("lat") && value.abs() > 90.0 {
-                return Err(Error::OutOfDomain {
-                    what,
-                    row,
-                    field,
-                    value,
-                    reason: "latitude must be in [-90, 90]",
-                });
-            }
+            check_coordinate(what, row, field, value, bound)?;
         }
     }
     Ok(())
