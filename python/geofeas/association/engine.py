@@ -11,6 +11,7 @@ decisions). See ``docs/association.md`` for the model.
 from __future__ import annotations
 
 import os
+import types
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -179,10 +180,10 @@ class Association:
             {
                 "source": raw.track_source,
                 "spread": raw.track_spread,
-                **_cover_columns(raw.time_cover),
+                **_fields(raw.time_cover),
             },
-            {"a": raw.a, "b": raw.b, "candidates": self.candidates, **_stats_columns(raw.stats)},
-            [_counts_dict(raw.counts)],
+            {"a": raw.a, "b": raw.b, "candidates": self.candidates, **_fields(raw.stats)},
+            [_fields(raw.counts)],
             dec,
             geographic=self.reports.coords == "geographic",
             options=core,
@@ -420,40 +421,15 @@ def associate(
     return result
 
 
-def _stats_columns(s: _core.PairStats) -> dict[str, Any]:
-    """Pair summaries as the columns ``association_finish`` takes with the pairs."""
+def _fields(result: Any) -> dict[str, Any]:
+    """The fields of a core result class (``PairStats``, ``TimeCover``, ``PictureCounts``), in
+    their order, as the mapping of columns ``association_finish`` takes; read from the class, so
+    a field added in the core comes along."""
+    kinds = (types.MemberDescriptorType, types.GetSetDescriptorType)
     return {
-        "score": s.score,
-        "instants": s.instants,
-        "sum_m": s.sum_m,
-        "k_eff": s.k_eff,
-        "sum_mg": s.sum_mg,
-        "sum_ln_det": s.sum_ln_det,
-        "mean_trace_over_det": s.mean_trace_over_det,
-        "mean_inv_det": s.mean_inv_det,
-        "pos_0": s.pos_0,
-        "pos_1": s.pos_1,
-    }
-
-
-def _cover_columns(c: _core.TimeCover) -> dict[str, Any]:
-    """A time cover as the columns ``association_finish`` takes with the tracks."""
-    return {
-        "cover_offsets": c.cover_offsets,
-        "cover_start": c.cover_start,
-        "cover_end": c.cover_end,
-    }
-
-
-def _counts_dict(c: _core.PictureCounts) -> dict[str, Any]:
-    """Picture counts as the mapping ``association_finish`` takes (and merges)."""
-    return {
-        "micros": c.micros,
-        "cell_source": c.cell_source,
-        "cell_row": c.cell_row,
-        "cell_col": c.cell_col,
-        "cell_micros": c.cell_micros,
-        "time": c.time,
+        name: getattr(result, name)
+        for name, attr in vars(type(result)).items()
+        if not name.startswith("_") and isinstance(attr, kinds)
     }
 
 

@@ -66,7 +66,7 @@ from ..association import (
     read_reports,
 )
 from ..association.decisions import Decisions, read_decisions
-from ..association.engine import _counts_dict, _cover_columns, _stats_columns
+from ..association.engine import _fields
 from ._tiling import Grid, explode, owner
 
 try:
@@ -362,7 +362,7 @@ def _home_counts(
         coords=rep.coords,
     )
     summary = _core.association_track_summary(home_reports, options=options)
-    counts, cover = _counts_dict(summary[0]), _cover_columns(summary[1])
+    counts, cover = _fields(summary[0]), _fields(summary[1])
     cover["track"] = gid[tracks]
     # the tile numbers sources among those it holds; map them to the picture's indices
     glob = np.searchsorted(sources, rep.sources).astype(np.int64)
@@ -437,7 +437,7 @@ def _score_tiles(
                 "not meet: the halo bound is broken"
             )
         mine = keys == tile
-        stats = _stats_columns(
+        stats = _fields(
             _core.association_pair_stats(
                 rep,
                 np.ascontiguousarray(a[mine]),
