@@ -100,6 +100,18 @@ def test_old_paths_warn_in_a_fresh_interpreter():
         assert run.returncode == 0, (old, run.stderr)
 
 
+def _python_without_deprecations(code: str) -> None:
+    """Runs ``code`` in a fresh interpreter where a DeprecationWarning is an error; fails with its
+    stderr unless it exits 0."""
+    run = subprocess.run(
+        [sys.executable, "-W", "error::DeprecationWarning", "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert run.returncode == 0, run.stderr
+
+
 def test_the_package_imports_no_old_path():
     """``geofeas``, its subpackages and every module of them import without a single
     DeprecationWarning: nothing in the project itself uses a moved path."""
@@ -118,13 +130,7 @@ def test_the_package_imports_no_old_path():
             "assert not old & set(sys.modules), old & set(sys.modules)",
         ]
     )
-    run = subprocess.run(
-        [sys.executable, "-W", "error::DeprecationWarning", "-c", code],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert run.returncode == 0, run.stderr
+    _python_without_deprecations(code)
 
 
 def test_new_subpackages_import_nothing_optional():
@@ -141,13 +147,7 @@ def test_new_subpackages_import_nothing_optional():
             "assert 'dask' not in sys.modules and 'stonesoup' not in sys.modules",
         ]
     )
-    run = subprocess.run(
-        [sys.executable, "-W", "error::DeprecationWarning", "-c", code],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert run.returncode == 0, run.stderr
+    _python_without_deprecations(code)
 
 
 #: the layers of ARCHITECTURE.md, each with the layers it must not import
