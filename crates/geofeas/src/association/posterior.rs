@@ -771,9 +771,62 @@ impl<'a> Chain<'a> {
         }
     }
 
-    fn step(&mut self, b: u32, rng: &mut Xoshiro256PlusPlus) {
+    /// Adds to `acc` the conditional probabilities, given where every other block is, that
+    /// block `b` shares an object with each track it has a pair with, and that each of its
+    /// tracks is alone (the Rao-Blackwellised estimate, from the untempered moves `fwd` of `b`).
+    fn rao_blackwell(&self, b: u32, fwd: &[(Move, f64)], acc: &mut Conditionals) {
+        let comp = self.comp;
+        let old = self.label[b as usize];
+        // b's placements that leave the other blocks where they are: its cell, a cell of its
+        // own, or a cell it can join; the partition's log-weight relative to the current one
+        let placements: Vec<(Option<u32>, f64)> = fwd
+            .iter()
+            .filter_map(|&(m, d)| match m {
+                Move::Stay => Some((Some(old), d)),
+                Move::Alone => Some((None, d)),
+                Move::Join(c) => Some((Some(c), d)),
+                Move::Swap(..) => None,
+            })
+            .collect();
+        let z = log_sum_exp(placements.iter().map(|p| p.1));
+        let prob = |cell: Option<u32>| {
+            placements
+                .iter()
+                .find(|p| p.0 == cell)
+                .map_or(0.0, |p| (p.1 - z).exp())
+        };
+        let mine = &comp.blocks[b as usize];
+        let alone = if mine.len() > 1 {
+            0.0
+        } else if self.cell_blocks[old as usize].len() == 1 {
+            prob(Some(old))
+        } else {
+            prob(None)
+        };
+        for &x in mine {
+            acc.alone[x as usize] += alone;
+            acc.alone_n[x as usize] += 1;
+            for &(y, i) in &acc.incident[x as usize] {
+                let by = comp.block_of[y as usize];
+                acc.pair[i] += if by == b {
+                    1.0
+                } else {
+                    prob(Some(self.label[by as usize]))
+                };
+                acc.pair_n[i] += 1;
+            }
+        }
+    }
+
+    /// One Metropolis-Hastings move of block `b`; on the untempered chain, with `acc`, it first
+    /// adds the Rao-Blackwellised marginals of the current state.
+    fn step(&mut self, b: u32, rng: &mut Xoshiro256PlusPlus, acc: Option<&mut Conditionals>) {
         let beta = self.beta;
         let fwd = self.moves(b);
+        if let Some(acc) = acc {
+            debug_assert_eq!(beta, 1.0);
+            self.rao_blackwell(b, &fwd, acc);
+        }
         let lse_fwd = log_sum_exp(fwd.iter().map(|m| beta * m.1));
         let u = unit(rng);
         let mut acc = 0.0;
@@ -804,6 +857,56 @@ impl<'a> Chain<'a> {
             };
             self.apply(b, back);
         }
+    }
+}
+
+/// Running sums of the Rao-Blackwellised marginals of one chain: per pair of the component and
+/// per track, the sum of the conditional probabilities at each visit of a block, and the number
+/// of visits. A pair is estimated at the visits of its less precise track's block: a vague
+/// track's placement given the rest weighs every ship that fits it at once, while a ship's
+/// placement given the rest only sees whether the vague track sits alone at that moment.
+struct Conditionals {
+    /// Per local track, `(other track, index in the component's pairs)` of the pairs it is the
+    /// less precise track of.
+    incident: Vec<Vec<(u32, usize)>>,
+    pair: Vec<f64>,
+    pair_n: Vec<u32>,
+    alone: Vec<f64>,
+    alone_n: Vec<u32>,
+}
+
+impl Conditionals {
+    fn new(comp: &Component) -> Self {
+        let mut incident = vec![Vec::new(); comp.tracks.len()];
+        for (i, &(_, a, b)) in comp.pairs.iter().enumerate() {
+            let (vague, other) = if comp.rank[a as usize] > comp.rank[b as usize] {
+                (a, b)
+            } else {
+                (b, a)
+            };
+            incident[vague as usize].push((other, i));
+        }
+        Self {
+            incident,
+            pair: vec![0.0; comp.pairs.len()],
+            pair_n: vec![0; comp.pairs.len()],
+            alone: vec![0.0; comp.tracks.len()],
+            alone_n: vec![0; comp.tracks.len()],
+        }
+    }
+
+    /// The chain's estimates: per pair, per track.
+    fn means(&self) -> (Vec<f64>, Vec<f64>) {
+        let mean = |s: &[f64], n: &[u32]| {
+            s.iter()
+                .zip(n)
+                .map(|(&s, &n)| if n == 0 { 0.0 } else { s / f64::from(n) })
+                .collect::<Vec<f64>>()
+        };
+        (
+            mean(&self.pair, &self.pair_n),
+            mean(&self.alone, &self.alone_n),
+        )
     }
 }
 
@@ -883,7 +986,7 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
     let nb = comp.blocks.len();
     let burn = inf.sweeps / 4;
     let first = comp.tracks[0] as u64;
-    let per_chain: Vec<Vec<Vec<u32>>> = (0..inf.chains)
+    let per_chain: Vec<(Vec<Vec<u32>>, Conditionals)> = (0..inf.chains)
         .into_par_iter()
         .map(|c| {
             let mut rng = Xoshiro256PlusPlus::seed_from_u64(crate::rng::mix64(
@@ -900,10 +1003,12 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
                 })
                 .collect();
             let mut kept = Vec::with_capacity(inf.sweeps);
+            let mut acc = Conditionals::new(comp);
             for sweep in 0..burn + inf.sweeps {
-                for ch in ladder.iter_mut() {
+                for (i, ch) in ladder.iter_mut().enumerate() {
+                    let estimate = i == 0 && sweep >= burn;
                     for b in 0..nb as u32 {
-                        ch.step(b, &mut rng);
+                        ch.step(b, &mut rng, estimate.then_some(&mut acc));
                     }
                 }
                 for i in 0..ladder.len() - 1 {
@@ -919,17 +1024,15 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
                     kept.push(ladder[0].label.clone());
                 }
             }
-            kept
+            (kept, acc)
         })
         .collect();
-    let mut chain_p: Vec<Vec<f64>> = Vec::new();
-    let mut chain_a: Vec<Vec<f64>> = Vec::new();
-    for kept in &per_chain {
-        let w = vec![1.0 / kept.len() as f64; kept.len()];
-        let (p, a) = marginals_of(comp, kept, &w);
-        chain_p.push(p);
-        chain_a.push(a);
-    }
+    // each chain's marginals are the means of the conditional probabilities at its visits
+    // (Rao-Blackwell): a vague track's pairs with the tens of ships that fit it each get the
+    // probability of joining that ship given the rest of the picture, not a count of the rare
+    // sweeps it sat there
+    let (chain_p, chain_a): (Vec<Vec<f64>>, Vec<Vec<f64>>) =
+        per_chain.iter().map(|(_, acc)| acc.means()).unzip();
     let nc = inf.chains as f64;
     let mean_sd = |rows: &[Vec<f64>], i: usize| {
         let m = rows.iter().map(|r| r[i]).sum::<f64>() / nc;
@@ -941,7 +1044,7 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
     let p_alone: Vec<f64> = (0..comp.tracks.len())
         .map(|i| mean_sd(&chain_a, i).0)
         .collect();
-    let samples: Vec<Vec<u32>> = per_chain.into_iter().flatten().collect();
+    let samples: Vec<Vec<u32>> = per_chain.into_iter().flat_map(|(k, _)| k).collect();
     let w = 1.0 / samples.len() as f64;
     Marginals {
         p_pair,
@@ -1339,6 +1442,48 @@ mod tests {
             }
         }
         assert!(worst < 0.05, "worst {worst}");
+    }
+
+    #[test]
+    fn a_vague_track_over_many_ships_is_estimated_exactly() {
+        // an HF DF fix (source 1) over twelve concurrent AIS ships (source 0): it is alone or
+        // with one ship, so p(ship i) = e^L_i / (1 + sum_j e^L_j) in closed form. Only the fix
+        // moves between partitions, and its placement given the rest is exactly that law at
+        // every visit: the Rao-Blackwellised sampler must give it to rounding, where counting
+        // the sweeps the fix sits on each ship errs by about 0.01.
+        let n = 12u32;
+        let mut tracks: Vec<Track> = (0..n).map(|_| tr(0, 0.0, 10.0, 0.1)).collect();
+        tracks.push(tr(1, 0.0, 10.0, 30.0));
+        let pairs: Vec<(u32, u32)> = (0..n).map(|i| (i, n)).collect();
+        let llr: Vec<f64> = (0..n).map(|i| -3.5 + 0.4 * f64::from(i)).collect();
+        let z = 1.0 + llr.iter().map(|l| l.exp()).sum::<f64>();
+        let inf = Inference {
+            exact_limit: 0,
+            chains: 4,
+            sweeps: 100,
+            seed: 3,
+        };
+        let sampled = posterior(
+            &tracks,
+            &whole(&tracks),
+            &pairs,
+            &own(&llr),
+            &[],
+            &inf,
+            (0.01, 0.99),
+        )
+        .unwrap();
+        assert_eq!(sampled.components[0].method, Method::Sampled);
+        for (k, l) in llr.iter().enumerate() {
+            let want = l.exp() / z;
+            assert!(
+                (sampled.p_same[k] - want).abs() < 1e-9,
+                "pair {k}: {} against {want}",
+                sampled.p_same[k]
+            );
+            assert!(sampled.std_error[k] < 1e-9);
+        }
+        assert!((sampled.p_alone[n as usize] - 1.0 / z).abs() < 1e-9);
     }
 
     fn exact(tracks: &[Track], pairs: &[(u32, u32)], llr: &[f64], dec: &[Decision]) -> Posterior {
