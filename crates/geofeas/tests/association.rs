@@ -403,3 +403,27 @@ fn geographic_agrees_with_planar_after_an_exact_projection() {
         }
     }
 }
+
+#[test]
+fn the_density_is_looked_up_where_the_vaguer_track_is_whichever_is_named_first() {
+    // a precise track along y = 0 and a vague one 3 km north of it, reported together: the
+    // pair's density position is the vague track's, in both orders (the names of the tracks
+    // must not decide where the picture's density is read)
+    let (mut track, mut source, mut time, mut aou) = (vec![], vec![], vec![], vec![]);
+    for k in 0..10 {
+        let t = 10.0 * f64::from(k);
+        for (id, y, r) in [(0u32, 0.0, 20.0), (1u32, 3000.0, 8000.0)] {
+            track.push(id);
+            source.push(id);
+            time.push(t);
+            aou.push([5.0 * t, y, r, r / 4.0, 0.3]);
+        }
+    }
+    let r = Reports::new(Coords::Planar, 2, &track, &source, &time, &aou).unwrap();
+    let o = Options::default();
+    for (a, b) in [(0, 1), (1, 0)] {
+        let s = association::pair_stat(&r, a, b, &o);
+        assert!(s.instants > 0);
+        assert!((s.pos[1] - 3000.0).abs() < 1e-9, "({a}, {b}): {:?}", s.pos);
+    }
+}

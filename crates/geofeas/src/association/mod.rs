@@ -218,7 +218,8 @@ pub struct PairInstants {
     /// The Gaussian view of every instant: `d^T S^-1 d`, `ln det S`, `tr S / det S`, `1 / det S`
     /// with `S = R_a + R_b` (before inflation).
     pub gauss: Vec<[f64; 4]>,
-    /// Position of track `a` at the middle instant.
+    /// Position of the less precise track (larger covariance trace; `a` on a tie) at the
+    /// middle instant: where the density of objects is looked up.
     pub pos: [f64; 2],
     /// Track `a`'s share of the summed covariance traces `sum tr R_a / sum (tr R_a + tr R_b)`.
     pub share_a: f64,
@@ -254,7 +255,15 @@ pub fn pair_instants(r: &Reports, a: usize, b: usize, o: &Options) -> PairInstan
         g: Vec::with_capacity(inst.len()),
         m: Vec::with_capacity(inst.len()),
         gauss: Vec::with_capacity(inst.len()),
-        pos: inst.get(inst.len() / 2).map_or([0.0; 2], |i| i.a.pos),
+        // where the less precise track is: under "two objects" it is the object whose
+        // position the picture's density accounts for (whichever of the two is named first)
+        pos: inst.get(inst.len() / 2).map_or([0.0; 2], |i| {
+            if i.a.cov[0] + i.a.cov[2] >= i.b.cov[0] + i.b.cov[2] {
+                i.a.pos
+            } else {
+                i.b.pos
+            }
+        }),
         share_a: 0.5,
     };
     let (mut tr_a, mut tr_b) = (0.0, 0.0);
@@ -312,7 +321,7 @@ pub struct PairStat {
     pub mean_trace_over_det: f64,
     /// Mean of `1 / det S`.
     pub mean_inv_det: f64,
-    /// Position of track `a` at the middle instant (density look-up).
+    /// Position of the less precise track at the middle instant (density look-up).
     pub pos: [f64; 2],
 }
 
