@@ -402,7 +402,7 @@ fn mht_simulate_run<'py>(
 fn mht_study<'py>(py: Python<'py>, options: Option<&Bound<'py, PyDict>>) -> PyResult<MhtStudy> {
     let o = read_one::<MhtStudyOptions>(options)?;
     let opts = o.study_options().map_err(py_err)?;
-    let (seed, resamples, level) = (o.seed, o.resamples, o.level);
+    let (seed, resamples, level) = (o.sim.seed, o.resamples, o.level);
     let kinds = o.trackers.0;
     let (one_target, two_targets) = (o.one_target, o.two_targets);
     let cells = study_cells(&kinds, &one_target, &two_targets);

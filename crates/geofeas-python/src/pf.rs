@@ -522,18 +522,12 @@ fn pf_study<'py>(
     let opts = StudyOptions {
         runs: o.runs,
         seed: o.seed,
-        particles: o.particles,
-        association: o.association,
-        resampling: o.resampling,
-        peaks: PeakOptions {
-            count: o.peaks,
-            min_separation: o.min_separation,
-            smoothing: o.smoothing,
-        }
-        .validated()
-        .map_err(py_err)?,
-        model_factors: o.model_factors,
-        sigma_w: o.sigma_w,
+        particles: o.filter.particles,
+        association: o.filter.association,
+        resampling: o.filter.resampling,
+        peaks: o.filter.peak_options().map_err(py_err)?,
+        model_factors: o.filter.model_factors,
+        sigma_w: o.filter.sigma_w,
         scenario: Scenario {
             model: o.truth.model(),
             ..Scenario::paper()

@@ -1,9 +1,11 @@
 //! Described option sets of the trackers. Each set is one struct declared once with
 //! [`option_set!`](crate::option_set), which gives its `Default`, its schema (the name, kind,
-//! default and documentation of every option, in declaration order) and a setter by name. The
-//! Python bindings read their keyword options through the setter and expose the schema, from
-//! which the Python signatures take their defaults and against which the stubs, the command-line
-//! flags and the docs tables are checked.
+//! default and documentation of every option, in declaration order) and a setter by name. A set
+//! may take named options of another set instead of declaring them again (a field holding that
+//! set, the lender's schema entries, the setter delegating), so an option two sets share is
+//! still declared once. The Python bindings read their keyword options through the setter and
+//! expose the schema, from which the Python signatures take their defaults and against which the
+//! stubs, the command-line flags and the docs tables are checked.
 
 use geofeas::error::{Error, Result};
 
@@ -248,40 +250,126 @@ impl<T: Named> OptionType for NamedList<T> {
     }
 }
 
-/// Declares an option set: a struct whose every field has a doc line and a default,
-/// `#[doc = "..."] name: Type = default,`; implements `Default` and
-/// [`OptionSet`](crate::options::OptionSet) from the one declaration.
+/// The schema entries of the option set `L` named `names`, in that order: what a set declared
+/// with [`option_set!`](crate::option_set) shows of the options it takes from `L`.
+///
+/// # Panics
+/// If `L` has no option of one of the names (a mistake in the declaration of `borrower`).
+#[doc(hidden)]
+pub fn borrowed<L: OptionSet>(borrower: &str, names: &[&str]) -> Vec<OptionSpec> {
+    let lender = L::schema();
+    names
+        .iter()
+        .map(|n| {
+            lender
+                .iter()
+                .find(|s| s.name == *n)
+                .cloned()
+                .unwrap_or_else(|| {
+                    panic!(
+                        "{borrower}: '{n}' is not an option of {}",
+                        std::any::type_name::<L>()
+                    )
+                })
+        })
+        .collect()
+}
+
+/// `schema`, checked to name each option once.
+///
+/// # Panics
+/// If two options of `set` have the same name (a mistake in its declaration).
+#[doc(hidden)]
+pub fn distinct(set: &str, schema: Vec<OptionSpec>) -> Vec<OptionSpec> {
+    for (i, s) in schema.iter().enumerate() {
+        assert!(
+            schema[..i].iter().all(|t| t.name != s.name),
+            "{set}: two options named '{}'",
+            s.name
+        );
+    }
+    schema
+}
+
+/// Declares an option set: a struct whose every item has a doc line, in one of two forms.
+///
+/// - An option of the set's own, `#[doc = "..."] name: Type = default,` (a field `name` of type
+///   `Type`, starting at `default`).
+/// - Options taken from another option set, `#[doc = "..."] field: Set { a, b, c },`: a field
+///   `field` of type `Set` (starting at `Set::default()`) whose options `a`, `b` and `c` the set
+///   takes as its own, declared once in `Set`: their schema entries are `Set`'s (kind, default,
+///   doc), and setting one sets it in `field`. `Set`'s other options are not the set's.
+///
+/// Implements `Default` and [`OptionSet`](crate::options::OptionSet) from the one declaration.
+/// The schema follows the declaration: the set's own options and the taken ones in the order
+/// the items and the braced lists give them (so a taken option sits where the set lists it, not
+/// where `Set` declares it). A name declared twice, or taken but not an option of `Set`, makes
+/// `schema()` panic.
 #[macro_export]
 macro_rules! option_set {
     (
         $(#[$meta:meta])*
         pub struct $name:ident {
-            $( #[doc = $doc:literal] $field:ident : $ty:ty = $default:expr ),* $(,)?
+            $($body:tt)*
         }
     ) => {
-        $(#[$meta])*
+        $crate::option_set!(@parse [$(#[$meta])*] $name [] [] [] $($body)*);
+    };
+
+    // Options taken from another set: `#[doc = "..."] field: Set { a, b, c },`.
+    (@parse $meta:tt $name:ident [$($own:tt)*] [$($taken:tt)*] [$($item:tt)*]
+        #[doc = $doc:literal] $field:ident : $set:ident { $($n:ident),* $(,)? }
+        $(, $($rest:tt)*)?
+    ) => {
+        $crate::option_set!(@parse $meta $name
+            [$($own)*]
+            [$($taken)* [#[doc = $doc] $field : $set { $($n),* }]]
+            [$($item)* (taken $field $set [$($n)*])]
+            $($($rest)*)?
+        );
+    };
+
+    // An option of the set's own: `#[doc = "..."] name: Type = default,`.
+    (@parse $meta:tt $name:ident [$($own:tt)*] [$($taken:tt)*] [$($item:tt)*]
+        #[doc = $doc:literal] $field:ident : $ty:ty = $default:expr
+        $(, $($rest:tt)*)?
+    ) => {
+        $crate::option_set!(@parse $meta $name
+            [$($own)* [#[doc = $doc] $field : $ty = $default]]
+            [$($taken)*]
+            [$($item)* (own $field $doc $ty)]
+            $($($rest)*)?
+        );
+    };
+
+    (@parse [$($meta:tt)*] $name:ident
+        [$([#[doc = $doc:literal] $field:ident : $ty:ty = $default:expr])*]
+        [$([#[doc = $tdoc:literal] $tfield:ident : $set:ident { $($n:ident),* }])*]
+        [$($item:tt)*]
+    ) => {
+        $($meta)*
         pub struct $name {
             $( #[doc = $doc] pub $field: $ty, )*
+            $( #[doc = $tdoc] pub $tfield: $set, )*
         }
 
         impl Default for $name {
             fn default() -> Self {
-                Self { $( $field: $default, )* }
+                Self {
+                    $( $field: $default, )*
+                    $( $tfield: <$set as Default>::default(), )*
+                }
             }
         }
 
         impl $crate::options::OptionSet for $name {
             fn schema() -> Vec<$crate::options::OptionSpec> {
-                use $crate::options::OptionType;
+                #[allow(unused_variables)]
                 let d = Self::default();
-                vec![$(
-                    $crate::options::OptionSpec {
-                        name: stringify!($field),
-                        kind: <$ty as OptionType>::KIND,
-                        default: d.$field.to_value(),
-                        doc: $doc.trim(),
-                    },
-                )*]
+                // the items in declaration order, each one option or those taken from a set
+                let items: Vec<Vec<$crate::options::OptionSpec>> =
+                    vec![$( $crate::option_set!(@spec $name d $item) ),*];
+                $crate::options::distinct(stringify!($name), items.concat())
             }
 
             fn set(
@@ -289,24 +377,45 @@ macro_rules! option_set {
                 name: &str,
                 value: $crate::options::OptionValue,
             ) -> $crate::Result<()> {
-                use $crate::options::OptionType;
-                match name {
-                    $( stringify!($field) => {
-                        self.$field = <$ty as OptionType>::from_value(stringify!($field), value)?;
-                    } )*
-                    other => {
-                        return Err($crate::Error::InvalidOption {
-                            name: "options",
-                            reason: format!(
-                                "unexpected option '{other}' (options: {})",
-                                [$(stringify!($field)),*].join(", ")
-                            ),
-                        })
-                    }
-                }
-                Ok(())
+                $( if name == stringify!($field) {
+                    self.$field = <$ty as $crate::options::OptionType>::from_value(
+                        stringify!($field),
+                        value,
+                    )?;
+                    return Ok(());
+                } )*
+                $( if [$(stringify!($n)),*].contains(&name) {
+                    return <$set as $crate::options::OptionSet>::set(&mut self.$tfield, name, value);
+                } )*
+                let names: Vec<_> = <Self as $crate::options::OptionSet>::schema()
+                    .iter()
+                    .map(|o| o.name)
+                    .collect();
+                Err($crate::Error::InvalidOption {
+                    name: "options",
+                    reason: format!(
+                        "unexpected option '{name}' (options: {})",
+                        names.join(", ")
+                    ),
+                })
             }
         }
+    };
+
+    (@spec $name:ident $d:ident (own $field:ident $doc:literal $ty:ty)) => {
+        vec![$crate::options::OptionSpec {
+            name: stringify!($field),
+            kind: <$ty as $crate::options::OptionType>::KIND,
+            default: $crate::options::OptionType::to_value(&$d.$field),
+            doc: $doc.trim(),
+        }]
+    };
+
+    (@spec $name:ident $d:ident (taken $field:ident $set:ident [$($n:ident)*])) => {
+        $crate::options::borrowed::<$set>(
+            concat!(stringify!($name), ".", stringify!($field)),
+            &[$(stringify!($n)),*],
+        )
     };
 }
 
@@ -326,6 +435,39 @@ mod tests {
             factors: [f64; 3] = [0.8, 1.5, 1.5],
             /// Optional grid.
             grid: Option<Vec<f64>> = None,
+        }
+    }
+
+    crate::option_set! {
+        /// A set taking two options of [`Example`], in another order than `Example`'s.
+        #[derive(Debug, Clone, PartialEq)]
+        pub struct Borrower {
+            /// Runs.
+            runs: usize = 2,
+            /// The options of the example the set takes.
+            example: Example { scale, count },
+            /// A level.
+            level: f64 = 0.9,
+        }
+    }
+
+    crate::option_set! {
+        /// A set taking an option its lender does not have.
+        #[derive(Debug)]
+        pub struct Mistaken {
+            /// The options of the example the set takes.
+            example: Example { scale, speed },
+        }
+    }
+
+    crate::option_set! {
+        /// A set declaring one name twice.
+        #[derive(Debug)]
+        pub struct Twice {
+            /// Another scale.
+            scale: f64 = 1.0,
+            /// The options of the example the set takes.
+            example: Example { scale },
         }
     }
 
@@ -373,5 +515,78 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("count"), "{err}");
+    }
+
+    #[test]
+    fn taken_options_are_the_lenders() {
+        let lender = Example::schema();
+        let s = Borrower::schema();
+        let names: Vec<_> = s.iter().map(|o| o.name).collect();
+        assert_eq!(names, ["runs", "scale", "count", "level"]);
+        for taken in &s[1..3] {
+            let own = lender.iter().find(|o| o.name == taken.name).unwrap();
+            assert_eq!(
+                (taken.name, taken.kind, &taken.default, taken.doc),
+                (own.name, own.kind, &own.default, own.doc)
+            );
+        }
+        assert_eq!(Borrower::default().example, Example::default());
+        assert_eq!(s[0].doc, "Runs.");
+        assert_eq!(s[3].default, OptionValue::Float(0.9));
+    }
+
+    #[test]
+    fn setting_a_taken_option_sets_the_lenders_field() {
+        let mut b = Borrower::default();
+        b.set("scale", OptionValue::Int(3)).unwrap();
+        b.set("count", OptionValue::Int(7)).unwrap();
+        b.set("runs", OptionValue::Int(5)).unwrap();
+        assert_eq!(
+            b,
+            Borrower {
+                runs: 5,
+                example: Example {
+                    scale: 3.0,
+                    count: 7,
+                    ..Example::default()
+                },
+                ..Borrower::default()
+            }
+        );
+        // the lender checks the value and names the option
+        let err = b
+            .set("scale", OptionValue::Float(f64::INFINITY))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("scale"), "{err}");
+        assert_eq!(b.example.scale, 3.0);
+        // an option of the lender the set does not take is not the set's
+        for name in ["factors", "bogus"] {
+            let err = b.set(name, OptionValue::Int(1)).unwrap_err().to_string();
+            assert!(
+                err.contains(&format!("'{name}'")) && err.contains("runs, scale, count, level"),
+                "{err}"
+            );
+        }
+        assert_eq!(
+            b.example,
+            Example {
+                scale: 3.0,
+                count: 7,
+                ..Example::default()
+            }
+        );
+    }
+
+    #[test]
+    #[should_panic(expected = "Mistaken.example: 'speed' is not an option of")]
+    fn taking_an_option_the_lender_lacks_is_refused() {
+        Mistaken::schema();
+    }
+
+    #[test]
+    #[should_panic(expected = "Twice: two options named 'scale'")]
+    fn a_name_declared_twice_is_refused() {
+        Twice::schema();
     }
 }

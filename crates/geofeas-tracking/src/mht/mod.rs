@@ -55,7 +55,7 @@ use nalgebra::{Matrix2, Vector2};
 pub use config::MhtConfig;
 pub use hypothesis::{group_scans, Hypothesis, Mht};
 pub use metrics::{Evaluation, Metrics, Scorer, Tally};
-pub use options::{MhtBeam, MhtOptions, MhtRunOptions, MhtStudyOptions};
+pub use options::{MhtBeam, MhtOptions, MhtRunOptions, MhtSimOptions, MhtStudyOptions};
 pub use scenario::{Scenario, Trajectory};
 pub use sensor::{Detection, Noise, Sensor};
 pub use study::{

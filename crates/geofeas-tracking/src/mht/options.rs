@@ -4,6 +4,14 @@
 //! 1 and 2; [`MhtBeam`], the beam of a trilateration. Defaults are those of [`MhtConfig`],
 //! [`Noise`], [`StudyOptions`] and [`PaperPreset`]. The Python signatures, stubs,
 //! command-line flags and docs tables are checked against these declarations.
+//!
+//! The seven options a run and the study both take (seed, the simulated sensors' detection
+//! probability, the recommended tracker's settings) are declared in [`MhtSimOptions`], from
+//! which both take them (their field `sim`), each listing them where its signature shows them.
+//! A shared set rather than the study taking them from [`MhtRunOptions`]: the study has no
+//! targets, sensors, false alarms, tracker or run index of one run, and [`MhtSimOptions`] is
+//! what both turn into the core's [`StudyOptions`]. It is not an option group of its own in
+//! Python: `mht_options()` shows it inside `run` and `study`.
 
 use super::config::MhtConfig;
 use super::sensor::Noise;
@@ -63,19 +71,11 @@ option_set! {
 }
 
 option_set! {
-    /// The options of one simulated run of the paper's scenario (section 5.1).
+    /// The options of the simulated runs that one run ([`MhtRunOptions`]) and the study
+    /// ([`MhtStudyOptions`]) both take: the random streams, the simulated sensors and the
+    /// recommended tracker. Not an option group of its own in Python.
     #[derive(Debug, Clone, Copy, PartialEq)]
-    pub struct MhtRunOptions {
-        /// Targets of the scenario.
-        targets: usize = 2,
-        /// Sensors of the scenario (2 or 3).
-        sensors: usize = 3,
-        /// False alarms per sensor per scan.
-        false_alarms: usize = 2,
-        /// Tracker: mht (recommended), mht-paper (paper-faithful) or single (baseline).
-        tracker: TrackerKind = TrackerKind::Mht,
-        /// Index of the run.
-        run: usize = 0,
+    pub struct MhtSimOptions {
         /// Seed of the random streams.
         seed: u64 = StudyOptions::default().seed,
         /// Hypotheses kept after each detection (the paper: 50).
@@ -94,25 +94,48 @@ option_set! {
 }
 
 option_set! {
+    /// The options of one simulated run of the paper's scenario (section 5.1).
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    pub struct MhtRunOptions {
+        /// Targets of the scenario.
+        targets: usize = 2,
+        /// Sensors of the scenario (2 or 3).
+        sensors: usize = 3,
+        /// False alarms per sensor per scan.
+        false_alarms: usize = 2,
+        /// Tracker: mht (recommended), mht-paper (paper-faithful) or single (baseline).
+        tracker: TrackerKind = TrackerKind::Mht,
+        /// Index of the run.
+        run: usize = 0,
+        /// The options of the simulated runs, shared with the study.
+        sim: MhtSimOptions {
+            seed,
+            max_hypotheses,
+            ekf_iterations,
+            detection_probability,
+            new_target_rate,
+            confirm_probability,
+            accel_sigma,
+        },
+    }
+}
+
+option_set! {
     /// The options of the Monte-Carlo study of Tables 1 and 2.
     #[derive(Debug, Clone, PartialEq)]
     pub struct MhtStudyOptions {
         /// Monte-Carlo runs per column.
         runs: usize = StudyOptions::default().runs,
-        /// Seed of the random streams.
-        seed: u64 = StudyOptions::default().seed,
-        /// Hypotheses kept after each detection (the paper: 50).
-        max_hypotheses: usize = StudyOptions::default().max_hypotheses,
-        /// mht and single: relinearisations of the Cartesian EKF update (0: plain EKF).
-        ekf_iterations: usize = StudyOptions::default().ekf_iterations,
-        /// mht and single: expected new targets per scan in a sensor window.
-        new_target_rate: f64 = StudyOptions::default().new_target_rate,
-        /// Detection probability of the simulated sensors (the paper: 1).
-        detection_probability: f64 = StudyOptions::default().detection_probability,
-        /// mht and single: probability a track must reach before it counts (0: none).
-        confirm_probability: f64 = StudyOptions::default().confirm_probability,
-        /// mht and single: white-acceleration standard deviation, m/s^2 (2 g).
-        accel_sigma: f64 = StudyOptions::default().accel_sigma,
+        /// The options of the simulated runs, shared with one run.
+        sim: MhtSimOptions {
+            seed,
+            max_hypotheses,
+            ekf_iterations,
+            new_target_rate,
+            detection_probability,
+            confirm_probability,
+            accel_sigma,
+        },
         /// mht-paper: relinearisations of the Cartesian EKF update (0: the paper's EKF).
         paper_ekf_iterations: usize = PaperPreset::default().ekf_iterations,
         /// mht-paper: expected new targets per scan in a sensor window.
@@ -174,11 +197,30 @@ impl MhtOptions {
     }
 }
 
+impl MhtSimOptions {
+    /// The checked study options of `runs` runs per cell, with the paper-faithful tracker
+    /// `paper`.
+    pub fn study_options(&self, runs: usize, paper: PaperPreset) -> Result<StudyOptions> {
+        at_most("ekf_iterations", self.ekf_iterations, MAX_EKF_ITERATIONS)?;
+        at_most("max_hypotheses", self.max_hypotheses, MAX_HYPOTHESES)?;
+        Ok(StudyOptions {
+            runs,
+            seed: self.seed,
+            max_hypotheses: self.max_hypotheses,
+            ekf_iterations: self.ekf_iterations,
+            detection_probability: self.detection_probability,
+            new_target_rate: self.new_target_rate,
+            confirm_probability: self.confirm_probability,
+            accel_sigma: self.accel_sigma,
+            paper,
+        })
+    }
+}
+
 impl MhtRunOptions {
     /// The study options of the run's tracker.
     pub fn study_options(&self) -> Result<StudyOptions> {
-        at_most("ekf_iterations", self.ekf_iterations, MAX_EKF_ITERATIONS)?;
-        at_most("max_hypotheses", self.max_hypotheses, MAX_HYPOTHESES)?;
+        let opts = self.sim.study_options(1, PaperPreset::default())?;
         for (name, v) in [
             ("targets", self.targets),
             ("sensors", self.sensors),
@@ -186,47 +228,29 @@ impl MhtRunOptions {
         ] {
             at_most(name, v, MAX_SCENARIO_COUNT)?;
         }
-        Ok(StudyOptions {
-            runs: 1,
-            seed: self.seed,
-            max_hypotheses: self.max_hypotheses,
-            ekf_iterations: self.ekf_iterations,
-            detection_probability: self.detection_probability,
-            new_target_rate: self.new_target_rate,
-            confirm_probability: self.confirm_probability,
-            accel_sigma: self.accel_sigma,
-            ..StudyOptions::default()
-        })
+        Ok(opts)
     }
 }
 
 impl MhtStudyOptions {
     /// The core study options.
     pub fn study_options(&self) -> Result<StudyOptions> {
-        at_most("ekf_iterations", self.ekf_iterations, MAX_EKF_ITERATIONS)?;
-        at_most("max_hypotheses", self.max_hypotheses, MAX_HYPOTHESES)?;
+        let opts = self.sim.study_options(
+            self.runs,
+            PaperPreset {
+                ekf_iterations: self.paper_ekf_iterations,
+                new_target_rate: self.paper_new_target_rate,
+                confirm_probability: self.paper_confirm_probability,
+                accel_sigma: self.paper_accel_sigma,
+            },
+        )?;
         if !(self.level > 0.0 && self.level < 1.0) {
             return Err(Error::InvalidOption {
                 name: "level",
                 reason: format!("must be in (0, 1), got {}", self.level),
             });
         }
-        Ok(StudyOptions {
-            runs: self.runs,
-            seed: self.seed,
-            max_hypotheses: self.max_hypotheses,
-            ekf_iterations: self.ekf_iterations,
-            new_target_rate: self.new_target_rate,
-            detection_probability: self.detection_probability,
-            confirm_probability: self.confirm_probability,
-            accel_sigma: self.accel_sigma,
-            paper: PaperPreset {
-                ekf_iterations: self.paper_ekf_iterations,
-                new_target_rate: self.paper_new_target_rate,
-                confirm_probability: self.paper_confirm_probability,
-                accel_sigma: self.paper_accel_sigma,
-            },
-        })
+        Ok(opts)
     }
 }
 
@@ -266,6 +290,38 @@ mod tests {
         for (i, n) in TrackerKind::NAMES.iter().enumerate() {
             assert_eq!(TrackerKind::ALL[i].name(), *n);
         }
+    }
+
+    #[test]
+    fn run_and_study_take_every_shared_option() {
+        let shared = MhtSimOptions::schema();
+        for (set, schema) in [
+            ("run", MhtRunOptions::schema()),
+            ("study", MhtStudyOptions::schema()),
+        ] {
+            for o in &shared {
+                assert_eq!(schema.iter().find(|s| s.name == o.name), Some(o), "{set}");
+            }
+        }
+        assert_eq!(
+            MhtRunOptions::default().study_options().unwrap(),
+            StudyOptions {
+                runs: 1,
+                ..StudyOptions::default()
+            }
+        );
+        let mut r = MhtRunOptions::default();
+        r.set("seed", OptionValue::Int(7)).unwrap();
+        r.set("accel_sigma", OptionValue::Float(3.0)).unwrap();
+        let opts = r.study_options().unwrap();
+        assert_eq!((opts.seed, opts.accel_sigma), (7, 3.0));
+        let mut s = MhtStudyOptions::default();
+        s.set("max_hypotheses", OptionValue::Int(100_001)).unwrap();
+        assert!(s
+            .study_options()
+            .unwrap_err()
+            .to_string()
+            .contains("max_hypotheses"));
     }
 
     #[test]

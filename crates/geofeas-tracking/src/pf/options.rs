@@ -1,8 +1,9 @@
 //! The option sets of the particle-filter tracker (seed 003, Table 1 defaults), each declared
 //! once: [`PfOptions`], the bank of filters, shared by every entry point; [`PfRunOptions`] and
 //! [`PfTrackOptions`], the rest of a simulated run and of tracking given frames; and
-//! [`PfStudyOptions`], the Monte-Carlo study. The Python signatures, stubs, command-line flags and
-//! docs tables are checked against these declarations.
+//! [`PfStudyOptions`], the Monte-Carlo study, which takes eight of the bank's options from
+//! [`PfOptions`] (its field `filter`) rather than declaring them again. The Python signatures,
+//! stubs, command-line flags and docs tables are checked against these declarations.
 
 use crate::option_set;
 use crate::options::{Named, OptionKind, OptionType, OptionValue};
@@ -90,7 +91,7 @@ option_set! {
 }
 
 option_set! {
-    /// The options of the Monte-Carlo study (Figs. 7-20); the filter options default as in
+    /// The options of the Monte-Carlo study (Figs. 7-20), with the filter options it takes from
     /// [`PfOptions`].
     #[derive(Debug, Clone, PartialEq)]
     pub struct PfStudyOptions {
@@ -104,22 +105,17 @@ option_set! {
         snrs: Option<Vec<f64>> = None,
         /// SNR of the initial-condition rows (Fig. 20), dB.
         ic_snr: f64 = 2.0,
-        /// Particles per filter (the paper: 10,000).
-        particles: usize = PfOptions::default().particles,
-        /// Peak-to-filter assignment: the paper's weighted nearest neighbour, or distinct peaks.
-        association: Assignment = PfOptions::default().association,
-        /// Resampling scheme.
-        resampling: Resampling = PfOptions::default().resampling,
-        /// Peaks extracted per frame (strongest local maxima).
-        peaks: usize = PfOptions::default().peaks,
-        /// Least distance between two peaks, pixels.
-        min_separation: f64 = PfOptions::default().min_separation,
-        /// Gaussian smoothing of the frame before peak extraction, pixels (0: raw frame).
-        smoothing: f64 = PfOptions::default().smoothing,
-        /// Filter process noise, pixels/s^2 (the paper: 0.5).
-        sigma_w: f64 = PfOptions::default().sigma_w,
-        /// Method 2 model as factors of (amplitude, blur, sigma_z) (the paper: 0.8, 1.5, 1.5).
-        model_factors: [f64; 3] = PfOptions::default().model_factors,
+        /// The bank's options every row takes (the rows set `xmax` and `vmax`, the paper the rest).
+        filter: PfOptions {
+            particles,
+            association,
+            resampling,
+            peaks,
+            min_separation,
+            smoothing,
+            sigma_w,
+            model_factors,
+        },
     }
 }
 
