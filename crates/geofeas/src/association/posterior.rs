@@ -22,11 +22,13 @@
 //!   feasibility pruning) when there are at most [`Inference::exact_limit`] of them;
 //! - otherwise a **Markov chain Monte-Carlo sampler** over partitions: per block of tracks, a
 //!   Metropolis-Hastings move proposed in proportion to the weights of joining each object it has
-//!   a candidate pair with, leaving for an object of its own, or swapping places with the one
-//!   track of the target object it conflicts with (so that two ships' tracks can exchange
-//!   partners without passing through a state of low weight); the acceptance ratio is the ratio
-//!   of the two neighbourhoods' total weights, which makes the chain reversible with respect to
-//!   the posterior. [`Inference::chains`] independent chains from the grouping that takes the
+//!   a candidate pair with, leaving for an object of its own, or swapping places with the (up
+//!   to three) blocks of the target object it conflicts with (so that two ships' tracks can
+//!   exchange partners without passing through a state of low weight), from any object,
+//!   one of its own included; the reverse of the last, a swap with an object made only of
+//!   blocks it conflicts with that is joined to its own object, is proposed too. The acceptance
+//!   ratio is the ratio of the two neighbourhoods' total weights, which makes the chain
+//!   reversible with respect to the posterior. [`Inference::chains`] independent chains from the grouping that takes the
 //!   strongest pairs first; the standard error of each marginal is the spread of the chain
 //!   means over `sqrt(chains)`, reported per component.
 //!
@@ -682,15 +684,26 @@ impl<'a> Chain<'a> {
         if !old_rest.is_empty() && w_old_rest > f64::NEG_INFINITY {
             out.push((Move::Alone, w_old_rest - w_old));
         }
-        // target cells: those holding a neighbour of the block
+        // target cells: those holding a neighbour of the block; and those whose blocks all
+        // conflict with it and hold a neighbour of its cell, which it may swap with (it leaves
+        // for an object of its own, they join its cell): the reverse of a swap made by a block
+        // alone, which must be proposed for the chain to be reversible
         let mut targets: Vec<u32> = mine
             .iter()
+            .chain(&old_rest)
             .flat_map(|&x| comp.adj[x as usize].iter().map(|e| e.0))
             .map(|y| self.label[comp.block_of[y as usize] as usize])
             .filter(|&c| c != old)
             .collect();
         targets.sort_unstable();
         targets.dedup();
+        let holds_neighbour = |ch: &Self, c: u32| {
+            mine.iter().any(|&x| {
+                comp.adj[x as usize]
+                    .iter()
+                    .any(|e| ch.label[comp.block_of[e.0 as usize] as usize] == c)
+            })
+        };
         for c in targets {
             let cell = &self.cell_blocks[c as usize];
             let conflicts: Vec<u32> = cell
@@ -698,6 +711,14 @@ impl<'a> Chain<'a> {
                 .copied()
                 .filter(|&k| !comp.compatible(&comp.blocks[k as usize], mine))
                 .collect();
+            let all_conflict = conflicts.len() == cell.len();
+            if !holds_neighbour(self, c) && !all_conflict {
+                continue;
+            }
+            if all_conflict && old_rest.is_empty() {
+                // a block alone trading places with a whole cell changes no object
+                continue;
+            }
             let w_c = self.cell_w[c as usize];
             match conflicts.len() {
                 0 => {
@@ -708,7 +729,7 @@ impl<'a> Chain<'a> {
                         out.push((Move::Join(c), w + w_old_rest - w_c - w_old));
                     }
                 }
-                n if n <= MAX_SWAP && !old_rest.is_empty() => {
+                n if n <= MAX_SWAP => {
                     let kt: Vec<u32> = conflicts
                         .iter()
                         .flat_map(|&k| comp.blocks[k as usize].iter().copied())
@@ -1484,6 +1505,49 @@ mod tests {
             assert!(sampled.std_error[k] < 1e-9);
         }
         assert!((sampled.p_alone[n as usize] - 1.0 / z).abs() < 1e-9);
+    }
+
+    #[test]
+    fn two_rivals_for_one_ship_trade_places_in_one_move() {
+        // a ship seen by AIS (source 0) and radar (source 2), bound together overwhelmingly,
+        // and two concurrent aircraft tracks (source 1) that both fit it well: by symmetry each
+        // is the ship's with probability 1/2. From the greedy start (one on the ship, the other
+        // alone) the chain must swap them in one move; by "leave" then "join" it would cross a
+        // valley of e^-100, which even the hottest copy (e^-12) does not cross, and splitting
+        // the ship between them costs as much.
+        let tracks = [
+            tr(0, 0.0, 10.0, 0.1),
+            tr(2, 0.0, 10.0, 0.5),
+            tr(1, 0.0, 10.0, 1.0),
+            tr(1, 0.0, 10.0, 1.0),
+        ];
+        let pairs = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3)];
+        let llr = [200.0, 100.0, 100.0, 100.0, 100.0];
+        let inf = Inference {
+            exact_limit: 0,
+            chains: 4,
+            sweeps: 400,
+            seed: 5,
+        };
+        let sampled = posterior(
+            &tracks,
+            &whole(&tracks),
+            &pairs,
+            &own(&llr),
+            &[],
+            &inf,
+            (0.01, 0.99),
+        )
+        .unwrap();
+        assert_eq!(sampled.components[0].method, Method::Sampled);
+        for k in 1..5 {
+            assert!(
+                (sampled.p_same[k] - 0.5).abs() < 0.1,
+                "pair {k}: {} +- {}",
+                sampled.p_same[k],
+                sampled.std_error[k]
+            );
+        }
     }
 
     fn exact(tracks: &[Track], pairs: &[(u32, u32)], llr: &[f64], dec: &[Decision]) -> Posterior {
