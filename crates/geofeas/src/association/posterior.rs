@@ -684,38 +684,45 @@ impl<'a> Chain<'a> {
         if !old_rest.is_empty() && w_old_rest > f64::NEG_INFINITY {
             out.push((Move::Alone, w_old_rest - w_old));
         }
-        // target cells: those holding a neighbour of the block; and those whose blocks all
-        // conflict with it and hold a neighbour of its cell, which it may swap with (it leaves
-        // for an object of its own, they join its cell): the reverse of a swap made by a block
-        // alone, which must be proposed for the chain to be reversible
-        let mut targets: Vec<u32> = mine
-            .iter()
-            .chain(&old_rest)
-            .flat_map(|&x| comp.adj[x as usize].iter().map(|e| e.0))
-            .map(|y| self.label[comp.block_of[y as usize] as usize])
-            .filter(|&c| c != old)
-            .collect();
-        targets.sort_unstable();
-        targets.dedup();
-        let holds_neighbour = |ch: &Self, c: u32| {
-            mine.iter().any(|&x| {
-                comp.adj[x as usize]
-                    .iter()
-                    .any(|e| ch.label[comp.block_of[e.0 as usize] as usize] == c)
-            })
+        // target cells: those holding a neighbour of the block; and those of at most
+        // MAX_SWAP blocks, all in conflict with it, that hold a neighbour of its cell, which it
+        // may swap with (it leaves for an object of its own, they join its cell): the reverse
+        // of a swap made by a block alone, which must be proposed for the chain to be reversible
+        let cells_of = |ch: &Self, xs: &[u32]| -> Vec<u32> {
+            let mut cs: Vec<u32> = xs
+                .iter()
+                .flat_map(|&x| comp.adj[x as usize].iter().map(|e| e.0))
+                .map(|y| ch.label[comp.block_of[y as usize] as usize])
+                .filter(|&c| c != old)
+                .collect();
+            cs.sort_unstable();
+            cs.dedup();
+            cs
         };
-        for c in targets {
+        let near = cells_of(self, mine);
+        let extra: Vec<u32> = if old_rest.is_empty() {
+            Vec::new()
+        } else {
+            cells_of(self, &old_rest)
+                .into_iter()
+                .filter(|c| near.binary_search(c).is_err())
+                .filter(|&c| {
+                    let cell = &self.cell_blocks[c as usize];
+                    cell.len() <= MAX_SWAP
+                        && cell
+                            .iter()
+                            .all(|&k| !comp.compatible(&comp.blocks[k as usize], mine))
+                })
+                .collect()
+        };
+        for c in near.into_iter().chain(extra) {
             let cell = &self.cell_blocks[c as usize];
             let conflicts: Vec<u32> = cell
                 .iter()
                 .copied()
                 .filter(|&k| !comp.compatible(&comp.blocks[k as usize], mine))
                 .collect();
-            let all_conflict = conflicts.len() == cell.len();
-            if !holds_neighbour(self, c) && !all_conflict {
-                continue;
-            }
-            if all_conflict && old_rest.is_empty() {
+            if conflicts.len() == cell.len() && old_rest.is_empty() {
                 // a block alone trading places with a whole cell changes no object
                 continue;
             }
