@@ -28,9 +28,10 @@
 //!   one of its own included; the reverse of the last, a swap with an object made only of
 //!   blocks it conflicts with that is joined to its own object, is proposed too. The acceptance
 //!   ratio is the ratio of the two neighbourhoods' total weights, which makes the chain
-//!   reversible with respect to the posterior. [`Inference::chains`] independent chains from the grouping that takes the
-//!   strongest pairs first; the standard error of each marginal is the spread of the chain
-//!   means over `sqrt(chains)`, reported per component.
+//!   reversible with respect to the posterior. [`Inference::chains`] independent chains from
+//!   the grouping that takes the strongest pairs first; each chain's marginals are
+//!   Rao-Blackwellised (`Conditionals`); the standard error of each marginal is the spread of
+//!   the chain means over `sqrt(chains)`, reported per component.
 //!
 //! Operator decisions are hard constraints: tracks declared the same form one block that moves
 //! as a unit (a contradiction with the feasibility rules or with a declared difference is an
@@ -817,19 +818,23 @@ impl<'a> Chain<'a> {
             })
             .collect();
         let z = log_sum_exp(placements.iter().map(|p| p.1));
-        let prob = |cell: Option<u32>| {
-            placements
-                .iter()
-                .find(|p| p.0 == cell)
-                .map_or(0.0, |p| (p.1 - z).exp())
-        };
+        // the probability of each placement, by cell (a vague track has hundreds of pairs)
+        acc.cell_p
+            .resize(acc.cell_p.len().max(self.cell_blocks.len()), 0.0);
+        let mut new_cell = 0.0;
+        for &(c, d) in &placements {
+            match c {
+                Some(c) => acc.cell_p[c as usize] = (d - z).exp(),
+                None => new_cell = (d - z).exp(),
+            }
+        }
         let mine = &comp.blocks[b as usize];
         let alone = if mine.len() > 1 {
             0.0
         } else if self.cell_blocks[old as usize].len() == 1 {
-            prob(Some(old))
+            acc.cell_p[old as usize]
         } else {
-            prob(None)
+            new_cell
         };
         for &x in mine {
             acc.alone[x as usize] += alone;
@@ -839,9 +844,14 @@ impl<'a> Chain<'a> {
                 acc.pair[i] += if by == b {
                     1.0
                 } else {
-                    prob(Some(self.label[by as usize]))
+                    acc.cell_p[self.label[by as usize] as usize]
                 };
                 acc.pair_n[i] += 1;
+            }
+        }
+        for &(c, _) in &placements {
+            if let Some(c) = c {
+                acc.cell_p[c as usize] = 0.0;
             }
         }
     }
@@ -901,6 +911,8 @@ struct Conditionals {
     pair_n: Vec<u32>,
     alone: Vec<f64>,
     alone_n: Vec<u32>,
+    /// Scratch: the probability of the visited block's placement in each cell (0 elsewhere).
+    cell_p: Vec<f64>,
 }
 
 impl Conditionals {
@@ -920,6 +932,7 @@ impl Conditionals {
             pair_n: vec![0; comp.pairs.len()],
             alone: vec![0.0; comp.tracks.len()],
             alone_n: vec![0; comp.tracks.len()],
+            cell_p: Vec::new(),
         }
     }
 
