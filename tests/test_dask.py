@@ -141,6 +141,7 @@ def assert_same(got, want) -> None:
     assert got.candidates == want.candidates
     assert got.inflation == want.inflation
     assert got.coverage == want.coverage
+    assert got.track_breaks == want.track_breaks
 
 
 def components_across_tiles(got, tile) -> int:

@@ -268,6 +268,7 @@ fn association_finish<'py>(
                 start,
                 end,
                 spread: sp[t],
+                further: 0.0,
             }
         })
         .collect();

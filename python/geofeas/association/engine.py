@@ -64,6 +64,10 @@ class Association:
         or ``"sampled"``), ``partitions`` (enumerated; 0 when sampled) and ``max_std_error``.
     coverage : dict
         ``{source: P_s}``: the share of the picture's objects each source is estimated to hold.
+    track_breaks : dict
+        ``{source: g_s}``: the odds, estimated from the picture, that an object a source sees
+        gets a further track of that source (a track break, another pass of an aircraft); an
+        object holding several tracks of one source weighs them (``docs/association.md``).
     reports : Reports
         The input.
     candidates : int
@@ -118,6 +122,9 @@ class Association:
         }
         self.coverage = {
             srcs[k]: float(p) for k, p in enumerate(np.asarray(raw.coverage)) if k < len(srcs)
+        }
+        self.track_breaks = {
+            srcs[k]: float(g) for k, g in enumerate(np.asarray(raw.track_breaks)) if k < len(srcs)
         }
         obj = np.asarray(raw.object, dtype=np.int64)
         per_track_source = np.empty(reports.n_tracks, dtype=np.intp)

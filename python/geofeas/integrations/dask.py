@@ -479,11 +479,11 @@ def _tile_size(
 class DistributedAssociation(Association):
     """:class:`geofeas.Association` computed on Dask.
 
-    ``pairs``, ``objects``, ``components``, ``coverage``, ``inflation``, ``candidates`` and
-    ``options`` are those the single-machine :func:`geofeas.associate` gives. The reports
-    themselves stay where they were: ``reports`` holds the first report of every track (enough
-    for :meth:`assignment`), ``tracks`` the per-track summary with the space-time boxes and
-    ``tiles`` the number of tiles used.
+    ``pairs``, ``objects``, ``components``, ``coverage``, ``track_breaks``, ``inflation``,
+    ``candidates`` and ``options`` are those the single-machine :func:`geofeas.associate`
+    gives. The reports themselves stay where they were: ``reports`` holds the first report of
+    every track (enough for :meth:`assignment`), ``tracks`` the per-track summary with the
+    space-time boxes and ``tiles`` the number of tiles used.
     """
 
     def __init__(

@@ -25,12 +25,19 @@
 //! `F_s = r / (r + (mu / mu_bar) prod_{s' != s} (1 - P_s'))` with `r = f_s / (1 - f_s)`. The
 //! posterior counts each track's `ln(1 - F)` once per object ([`PairEvidence::own`]).
 //!
+//! `kappa` is the prior odds of merging two objects seen by different sources. An object seen
+//! by source `s` may get several tracks of it (a tracker's break, another pass of a patrol
+//! aircraft), with odds `g_s` of a further one ([`track_breaks`]); merging two objects both
+//! seen by `s` then has `g_s / P_s` for `s` where `kappa` has `1 / (1 - P_s)`, so the posterior
+//! weighs every further track of a source in one object by `g_s (1 - P_s) / P_s`.
+//!
 //! **Estimates from the picture.** `mu` is the time-averaged number of tracks of the most
 //! complete source (the one with the most track-seconds) per area, on a grid of
 //! [`Model::cell`]-metre cells smoothed over the 3 x 3 neighbourhood, divided by that source's
 //! completeness ([`Model::completeness`]), and never below a twentieth of the picture-wide
 //! density. `P_s` is the completeness times the ratio of source `s`'s track-seconds to the most
-//! complete source's, clamped to `[0.001, 0.999]`.
+//! complete source's, clamped to `[0.001, 0.999]`. `g_s` comes from the number of tracks of
+//! `s` per object it sees, `P_s` times the picture's objects ([`track_breaks`]).
 
 use super::reports::{Coords, Reports};
 use super::PairStat;
@@ -319,6 +326,48 @@ impl Picture {
     }
 }
 
+/// The smallest `g_s` of [`track_breaks`]: that of the most complete source, which the model
+/// takes to give each object it sees one track (as the density estimate does), and of a source
+/// that shows no break.
+pub const MIN_TRACK_BREAK: f64 = 0.05;
+
+/// Per source, `g_s`: the odds that an object source `s` sees gets a further track of that
+/// source (a track break, another pass of a patrol aircraft), `P(n + 1 tracks) / P(n tracks)`
+/// for an object seen by `s`, from `m_s`, its tracks per object it sees, of a geometric count:
+/// `g_s = 1 - 1 / m_s`, clamped to `[MIN_TRACK_BREAK, 0.99]`. The objects `s` sees are
+/// `P_s` (`coverage`) times the picture's objects, which are the real tracks of the most
+/// complete source (`reference`, one per object) over the completeness; the real tracks of a
+/// source are its tracks less the false share `f_s`. So
+/// `m_s = N_s (1 - f_s) c / (P_s N_ref (1 - f_ref))`, with `N` the numbers of tracks and `c` the
+/// completeness: `1` for the reference source.
+pub fn track_breaks(
+    track_source: &[u32],
+    coverage: &[f64],
+    reference: u32,
+    model: &Model,
+) -> Vec<f64> {
+    let mut tracks = vec![0usize; coverage.len()];
+    for &s in track_source {
+        if let Some(n) = tracks.get_mut(s as usize) {
+            *n += 1;
+        }
+    }
+    let real = |s: usize| tracks[s] as f64 * (1.0 - model.false_fraction(s as u32));
+    let objects = tracks
+        .get(reference as usize)
+        .map_or(0.0, |_| real(reference as usize))
+        / model.completeness;
+    (0..coverage.len())
+        .map(|s| {
+            if s as u32 == reference || tracks[s] == 0 || objects <= 0.0 {
+                return MIN_TRACK_BREAK;
+            }
+            let m = real(s) / (coverage[s] * objects);
+            (1.0 - 1.0 / m).clamp(MIN_TRACK_BREAK, 0.99)
+        })
+        .collect()
+}
+
 /// A pair's `L` (see the module docs) and the terms `ln(1 - F)` of each of its tracks in it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PairEvidence {
@@ -371,6 +420,28 @@ pub fn log_likelihood_ratio(
 
 #[cfg(test)]
 mod tests {
+
+    /// `g_s` by hand: 40 reference tracks with completeness 0.95 stand for 40 objects (one
+    /// false in twenty); source 1 (coverage 0.5, false share 0.1) has 60 tracks, 54 real, for
+    /// 20 seen objects, `m = 2.7`; source 2 fewer tracks than objects it sees, source 3 none,
+    /// and the reference source take the floor.
+    #[test]
+    fn track_breaks_by_hand() {
+        let mut source = vec![0u32; 40];
+        source.extend([1u32; 60]);
+        source.extend([2u32; 3]);
+        let model = Model {
+            false_tracks: vec![0.05, 0.1, 0.05, 0.05],
+            ..Model::default()
+        };
+        let g = track_breaks(&source, &[0.95, 0.5, 0.2, 0.3], 0, &model);
+        let m = 60.0 * 0.9 / (0.5 * 40.0 * 0.95 / 0.95);
+        assert!((g[1] - (1.0 - 1.0 / m)).abs() < 1e-12, "{g:?}");
+        assert_eq!(g[0], MIN_TRACK_BREAK);
+        assert_eq!(g[2], MIN_TRACK_BREAK);
+        assert_eq!(g[3], MIN_TRACK_BREAK);
+    }
+
     use super::*;
 
     /// Reports of `tracks` tracks (sources 0..3) wandering over a few cells with irregular,

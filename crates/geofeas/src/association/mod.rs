@@ -170,6 +170,9 @@ pub struct Association {
     pub components: Vec<posterior::ComponentInfo>,
     /// Coverage `P_s` estimated per source.
     pub coverage: Vec<f64>,
+    /// Odds `g_s` of a further track of a source in one object, estimated per source
+    /// ([`evidence::track_breaks`]).
+    pub track_breaks: Vec<f64>,
     /// What the posterior was computed from, so that it can be recomputed under operator
     /// decisions without scoring again ([`finish`]): the tracks, the summaries of the pairs
     /// and the picture counts.
@@ -453,6 +456,7 @@ pub fn track_summaries(r: &Reports) -> Vec<posterior::Track> {
                 start,
                 end,
                 spread: posterior::Track::spread_of(area_min, area_max),
+                further: 0.0,
             }
         })
         .collect()
@@ -578,8 +582,29 @@ pub fn finish(
         })
         .collect();
     res.llr = evidence.iter().map(|e| e.llr).collect();
+    // an object's further tracks of one source: odds g_s of a break against the (1 - P_s) / P_s
+    // the merge of two objects both seen by s assumed in L (see `evidence::track_breaks`)
+    res.track_breaks = evidence::track_breaks(
+        &track_source,
+        &picture.coverage,
+        picture.reference,
+        &o.model,
+    );
+    let further: Vec<f64> = res
+        .track_breaks
+        .iter()
+        .zip(&picture.coverage)
+        .map(|(g, p)| g.ln() + ((1.0 - p) / p).ln())
+        .collect();
+    let weighed: Vec<posterior::Track> = tracks
+        .iter()
+        .map(|t| posterior::Track {
+            further: further.get(t.source as usize).copied().unwrap_or(0.0),
+            ..*t
+        })
+        .collect();
     let post = posterior::posterior(
-        tracks,
+        &weighed,
         cover,
         &pairs,
         &evidence,

@@ -15,7 +15,11 @@
 //! track of the object it has a candidate pair with (tracks taken from the most precise to the
 //! least): the product of the Gaussian densities of one instant factorises exactly that way when
 //! the reference is much more precise than the joined track, as it is for a radar, aircraft or
-//! HF DF track joined to an AIS track, and the evidence of each track is counted once.
+//! HF DF track joined to an AIS track, and the evidence of each track is counted once. Each
+//! further track of a source the object already holds adds that source's break odds
+//! ([`Track::further`], `ln(g_s (1 - P_s) / P_s)`, [`crate::association::evidence::track_breaks`]):
+//! a pair's `L` weighs a merge of two objects seen by different sources, and two tracks of one
+//! source are one sighting broken in two, not two sightings.
 //!
 //! Inference, per component and in parallel over components:
 //! - **Exact enumeration** of the feasible partitions (restricted growth strings with
@@ -62,6 +66,10 @@ pub struct Track {
     pub end: f64,
     /// Precision order: the typical AOU size `sqrt(det R)` (smaller is more precise).
     pub spread: f64,
+    /// Log prior factor of the track in an object that already holds a track of its source,
+    /// `ln(g_s (1 - P_s) / P_s)` ([`super::evidence::track_breaks`]); 0 leaves such objects
+    /// weighed as the merge of objects seen by disjoint sources.
+    pub further: f64,
 }
 
 impl Track {
@@ -299,6 +307,16 @@ impl Component {
             }
             if !progress {
                 return f64::NEG_INFINITY;
+            }
+        }
+        // every further track of a source the object already holds: its break odds
+        for (i, &x) in scratch.iter().enumerate() {
+            let t = &self.info[x as usize];
+            if scratch[..i]
+                .iter()
+                .any(|&y| self.info[y as usize].source == t.source)
+            {
+                total += t.further;
             }
         }
         total
@@ -1369,6 +1387,7 @@ mod tests {
             start,
             end,
             spread,
+            further: 0.0,
         }
     }
 
@@ -1599,6 +1618,38 @@ mod tests {
         assert!((p.p_alone[0] - (w[0] + w[3]) / z).abs() < 1e-12);
         assert!((p.p_alone[2] - (w[0] + w[1]) / z).abs() < 1e-12);
         assert_eq!(p.components[0].partitions, 5);
+    }
+
+    /// An AIS track over two radar tracks, one after the other: the object of all three holds
+    /// a further radar track, which weighs its source's break odds (`Track::further`); the
+    /// AIS track's own factor never counts, being the object's only AIS track.
+    #[test]
+    fn a_further_track_of_one_source_weighs_its_break_odds() {
+        let (l1, l2) = (2.0_f64, 1.0_f64);
+        for further in [0.0, -3.0, 1.5] {
+            let mut tracks = [
+                tr(0, 0.0, 100.0, 1.0),
+                tr(1, 0.0, 40.0, 5.0),
+                tr(1, 60.0, 100.0, 5.0),
+            ];
+            tracks[0].further = -7.0;
+            tracks[1].further = further;
+            tracks[2].further = further;
+            let p = exact(&tracks, &[(0, 1), (0, 2)], &[l1, l2], &[]);
+            // {A}{R1}{R2}, {A R1}{R2}, {A R2}{R1}, {A R1 R2}
+            let w = [1.0, l1.exp(), l2.exp(), (l1 + l2 + further).exp()];
+            let z: f64 = w.iter().sum();
+            let want = [(w[1] + w[3]) / z, (w[2] + w[3]) / z];
+            for (k, w) in want.iter().enumerate() {
+                assert!(
+                    (p.p_same[k] - w).abs() < 1e-12,
+                    "{further} {k}: {} {w}",
+                    p.p_same[k]
+                );
+            }
+            assert!((p.p_alone[1] - (w[0] + w[2]) / z).abs() < 1e-12);
+            assert_eq!(p.components[0].partitions, 4);
+        }
     }
 
     /// A DF track of two fixes a minute apart, an AIS track over both and an aircraft track
