@@ -373,6 +373,8 @@ pub fn track_breaks(
 pub struct PairEvidence {
     pub llr: f64,
     pub own: (f64, f64),
+    /// Independent instants of the pair (`k_eff`).
+    pub k_eff: f64,
 }
 
 /// `L` of a scored pair (see the module docs): `stat` from [`super::pair_stat`], `c` the
@@ -391,6 +393,7 @@ pub fn log_likelihood_ratio(
     let none = PairEvidence {
         llr: f64::NEG_INFINITY,
         own: (0.0, 0.0),
+        k_eff: 0.0,
     };
     if k == 0.0 {
         return none;
@@ -414,7 +417,11 @@ pub fn log_likelihood_ratio(
     if l.is_nan() || own.0.is_nan() || own.1.is_nan() {
         none
     } else {
-        PairEvidence { llr: l, own }
+        PairEvidence {
+            llr: l,
+            own,
+            k_eff: stat.k_eff,
+        }
     }
 }
 

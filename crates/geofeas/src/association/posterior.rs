@@ -11,11 +11,16 @@
 //! `exp(sum of L_e)` over a spanning tree of its tracks, where `L_e` is the log-likelihood ratio
 //! of a pair ([`crate::association::evidence`]) less the term of the track the pair joins to
 //! the tree (the log-odds that a track is not a false one is a property of the track: it is
-//! counted once per object, with the root's first pair). The tree joins every track to the most precise
-//! track of the object it has a candidate pair with (tracks taken from the most precise to the
-//! least): the product of the Gaussian densities of one instant factorises exactly that way when
+//! counted once per object, with the root's first pair). The tree takes the tracks from the most
+//! precise to the least and joins each to a member already in it that it has a candidate pair
+//! with: the product of the Gaussian densities of one instant factorises exactly that way when
 //! the reference is much more precise than the joined track, as it is for a radar, aircraft or
-//! HF DF track joined to an AIS track, and the evidence of each track is counted once. Each
+//! HF DF track joined to an AIS track, and the evidence of each track is counted once. Among the
+//! members at least [`ANCHOR_PRECISION`] times more precise than the joined track, the one
+//! whose pair with it has the most independent instants is taken (the pair that covers most of
+//! the joined track's time: an aircraft track that met a moored ship's AIS track, reporting
+//! every three minutes, at one instant and its radar track at 140 was joined on that one
+//! instant's evidence); without one, the most precise member with a pair. Each
 //! further track of a source the object already holds adds that source's break odds
 //! ([`Track::further`], `ln(g_s (1 - P_s) / P_s)`, [`crate::association::evidence::track_breaks`]):
 //! a pair's `L` weighs a merge of two objects seen by different sources, and two tracks of one
@@ -57,6 +62,12 @@ use crate::error::{Error, Result};
 /// A pair log-likelihood ratio below this is treated as impossible (`p_same = 0`): the pair is
 /// left out of the candidate graph, which keeps components small. `exp(-20) ~ 2e-9`.
 pub const L_CUT: f64 = -20.0;
+
+/// A track joins an object's spanning tree through a member at least this many times more
+/// precise (typical AOU size `sqrt(det R)`), where one has a pair with it: the Gaussian
+/// densities of an instant factorise through the reference only when it is much more precise
+/// than the joined track (see the module docs).
+pub const ANCHOR_PRECISION: f64 = 2.0;
 
 /// What the model needs to know about a track.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -222,7 +233,7 @@ struct Component {
     /// Sorted adjacency `(neighbour, L, k)` per local track (candidate pairs and decided
     /// pairs): `L` the pair's log-likelihood ratio, `k` the neighbour's own term in it (see
     /// [`cell_weight`](Component::cell_weight)).
-    adj: Vec<Vec<(u32, f64, f64)>>,
+    adj: Vec<Vec<(u32, f64, f64, f64)>>,
     /// Local tracks of each block (tracks declared the same).
     blocks: Vec<Vec<u32>>,
     /// Block of each local track.
@@ -245,10 +256,15 @@ impl Component {
 
     /// `(L, k_y)` of the pair `x`, `y`.
     fn edge_parts(&self, x: u32, y: u32) -> Option<(f64, f64)> {
+        self.edge_full(x, y).map(|e| (e.0, e.1))
+    }
+
+    /// `(L, k_y, k_eff)` of the pair `x`, `y`.
+    fn edge_full(&self, x: u32, y: u32) -> Option<(f64, f64, f64)> {
         let row = &self.adj[x as usize];
         row.binary_search_by_key(&y, |e| e.0)
             .ok()
-            .map(|k| (row[k].1, row[k].2))
+            .map(|k| (row[k].1, row[k].2, row[k].3))
     }
 
     fn different(&self, x: u32, y: u32) -> bool {
@@ -276,6 +292,29 @@ impl Component {
 
     /// Log-weight of an object holding the tracks `members` (assumed feasible); `-inf` if the
     /// candidate pairs do not connect them.
+    /// `(L, k_y)` of the pair through which `x` joins the tree of `attached` members: among
+    /// the members at least [`ANCHOR_PRECISION`] times more precise than `x` that have a pair
+    /// with it, the one whose pair has the most independent instants (the first, the most
+    /// precise, on a tie); without such a member, the most precise member with a pair.
+    fn anchor(&self, x: u32, attached: &[u32]) -> Option<(f64, f64)> {
+        let sx = self.info[x as usize].spread;
+        let mut first = None;
+        let mut best: Option<(f64, f64)> = None;
+        let mut best_k = f64::NEG_INFINITY;
+        for &y in attached {
+            if let Some((l, k_y, k_eff)) = self.edge_full(x, y) {
+                if first.is_none() {
+                    first = Some((l, k_y));
+                }
+                if self.info[y as usize].spread * ANCHOR_PRECISION <= sx && k_eff > best_k {
+                    best = Some((l, k_y));
+                    best_k = k_eff;
+                }
+            }
+        }
+        best.or(first)
+    }
+
     fn cell_weight(&self, members: &[u32], scratch: &mut Vec<u32>) -> f64 {
         if members.len() < 2 {
             return 0.0;
@@ -291,12 +330,10 @@ impl Component {
             let mut k = attached;
             while k < scratch.len() {
                 let x = scratch[k];
-                // the most precise attached member with a pair to x; a pair's ratio holds a
+                // the attached member x joins through (`anchor`); a pair's ratio holds a
                 // term of each of its tracks (the odds that the track is not a false one,
                 // were it alone), counted once per object: the root's with its first pair
-                let best = scratch[..attached]
-                    .iter()
-                    .find_map(|&y| self.edge_parts(x, y));
+                let best = self.anchor(x, &scratch[..attached]);
                 if let Some((l, k_y)) = best {
                     total += if attached == 1 { l } else { l - k_y };
                     scratch[attached..=k].rotate_right(1);
@@ -339,6 +376,7 @@ fn components(
     pairs: &[(u32, u32)],
     llr: &[f64],
     own: &[(f64, f64)],
+    weight: &[f64],
     decisions: &[Decision],
 ) -> Result<Vec<Component>> {
     let n = tracks.len();
@@ -435,8 +473,8 @@ fn components(
             let c = comp_of(a, &mut dsu);
             let (la, lb) = (local[a as usize], local[b as usize]);
             let comp = &mut comps[c];
-            comp.adj[la as usize].push((lb, llr[k], own[k].1));
-            comp.adj[lb as usize].push((la, llr[k], own[k].0));
+            comp.adj[la as usize].push((lb, llr[k], own[k].1, weight[k]));
+            comp.adj[lb as usize].push((la, llr[k], own[k].0, weight[k]));
             comp.pairs.push((k, la, lb));
         }
     }
@@ -447,8 +485,8 @@ fn components(
         if d.same {
             // a decided pair connects its object even without a candidate pair
             if !comp.adj[la as usize].iter().any(|e| e.0 == lb) {
-                comp.adj[la as usize].push((lb, 0.0, 0.0));
-                comp.adj[lb as usize].push((la, 0.0, 0.0));
+                comp.adj[la as usize].push((lb, 0.0, 0.0, 0.0));
+                comp.adj[lb as usize].push((la, 0.0, 0.0, 0.0));
             }
         } else {
             comp.different.push((la.min(lb), la.max(lb)));
@@ -1238,6 +1276,7 @@ pub fn posterior(
     }
     let llr: Vec<f64> = evidence.iter().map(|e| e.llr).collect();
     let own: Vec<(f64, f64)> = evidence.iter().map(|e| e.own).collect();
+    let weight: Vec<f64> = evidence.iter().map(|e| e.k_eff).collect();
     if let Some(k) = llr.iter().position(|x| x.is_nan()) {
         return Err(Error::Invalid(format!(
             "pair {k}: log-likelihood ratio is NaN"
@@ -1250,7 +1289,7 @@ pub fn posterior(
             right: cover.len(),
         });
     }
-    let comps = components(tracks, cover, pairs, &llr, &own, decisions)?;
+    let comps = components(tracks, cover, pairs, &llr, &own, &weight, decisions)?;
     type Review = (Vec<f64>, Vec<(u32, u32)>);
     let results: Vec<(Marginals, Review)> = comps
         .par_iter()
@@ -1397,6 +1436,7 @@ mod tests {
             .map(|&llr| PairEvidence {
                 llr,
                 own: (0.0, 0.0),
+                k_eff: 1.0,
             })
             .collect()
     }
@@ -1620,6 +1660,41 @@ mod tests {
         assert_eq!(p.components[0].partitions, 5);
     }
 
+    /// An aircraft track X with pairs to an AIS track A (one independent instant) and a radar
+    /// track R (fifty): in the object of all three, X joins through R, the member much more
+    /// precise than X whose pair saw X longest; when R is not much more precise than X, through
+    /// A, the most precise.
+    #[test]
+    fn a_track_joins_through_the_precise_member_that_saw_it_longest() {
+        let (c, a, b) = (8.0_f64, 1.0_f64, 4.0_f64);
+        let ev = |llr: f64, k_eff: f64| PairEvidence {
+            llr,
+            own: (0.0, 0.0),
+            k_eff,
+        };
+        let evidence = [ev(c, 100.0), ev(a, 1.0), ev(b, 50.0)];
+        let pairs = [(0, 1), (0, 2), (1, 2)];
+        for (r_spread, through) in [(3.0, b), (6.0, a)] {
+            let tracks = [
+                tr(0, 0.0, 100.0, 1.0),
+                tr(1, 0.0, 100.0, r_spread),
+                tr(2, 0.0, 100.0, 10.0),
+            ];
+            let p = with_evidence(&tracks, &whole(&tracks), &pairs, &evidence, &[]);
+            // {A}{R}{X}, {A R}{X}, {A X}{R}, {R X}{A}, {A R X}
+            let w = [1.0, c.exp(), a.exp(), b.exp(), (c + through).exp()];
+            let z: f64 = w.iter().sum();
+            let want = [(w[1] + w[4]) / z, (w[2] + w[4]) / z, (w[3] + w[4]) / z];
+            for (k, w) in want.iter().enumerate() {
+                assert!(
+                    (p.p_same[k] - w).abs() < 1e-12,
+                    "{r_spread} {k}: {} {w}",
+                    p.p_same[k]
+                );
+            }
+        }
+    }
+
     /// An AIS track over two radar tracks, one after the other: the object of all three holds
     /// a further radar track, which weighs its source's break odds (`Track::further`); the
     /// AIS track's own factor never counts, being the object's only AIS track.
@@ -1697,10 +1772,12 @@ mod tests {
             PairEvidence {
                 llr: 3.0,
                 own: (-0.5, -1.0),
+                k_eff: 1.0,
             },
             PairEvidence {
                 llr: 4.0,
                 own: (-0.5, -2.0),
+                k_eff: 1.0,
             },
         ];
         let p = with_evidence(&tracks, &whole(&tracks), &pairs, &own, &[]);
