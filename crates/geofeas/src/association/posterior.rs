@@ -569,18 +569,31 @@ struct Marginals {
 /// compatible cell of blocks `0..k`, or opens a new one.
 struct Walk<'a> {
     comp: &'a Component,
+    /// The blocks in the order they are placed: the most precise first.
+    order: Vec<u32>,
+    /// Whether the block placed `k`-th has a pair with a block placed after it.
+    reach: Vec<bool>,
+    /// Cell of each block (indexed by block).
     labels: Vec<u32>,
     cells: Vec<Vec<u32>>,
     out_labels: Vec<Vec<u32>>,
     out_logw: Vec<f64>,
     scratch: Vec<u32>,
     limit: usize,
+    /// Placements left to try before the walk gives up (see [`ENUMERATION_WORK`]).
+    budget: usize,
 }
 
 impl Walk<'_> {
-    /// Places blocks `k..`; false when the limit is exceeded.
+    /// Places the blocks `order[k..]`; false when the limit or the work budget is exceeded.
+    /// A block joins a cell only if it has a pair with one of its tracks or with a block still
+    /// to place: otherwise the cell could never be connected.
     fn rec(&mut self, k: usize) -> bool {
         let comp = self.comp;
+        if self.budget == 0 {
+            return false;
+        }
+        self.budget -= 1;
         if k == comp.blocks.len() {
             let mut w = 0.0;
             for c in &self.cells {
@@ -595,10 +608,15 @@ impl Walk<'_> {
             }
             return true;
         }
-        let block = &comp.blocks[k];
+        let b = self.order[k] as usize;
+        let block = &comp.blocks[b];
         for c in 0..self.cells.len() {
-            if comp.compatible(&self.cells[c], block) {
-                self.labels[k] = c as u32;
+            let linked = self.reach[k]
+                || block
+                    .iter()
+                    .any(|&x| self.cells[c].iter().any(|&y| comp.edge(x, y).is_some()));
+            if linked && comp.compatible(&self.cells[c], block) {
+                self.labels[b] = c as u32;
                 let before = self.cells[c].len();
                 self.cells[c].extend_from_slice(block);
                 let ok = self.rec(k + 1);
@@ -608,7 +626,7 @@ impl Walk<'_> {
                 }
             }
         }
-        self.labels[k] = self.cells.len() as u32;
+        self.labels[b] = self.cells.len() as u32;
         self.cells.push(block.clone());
         let ok = self.rec(k + 1);
         self.cells.pop();
@@ -616,20 +634,48 @@ impl Walk<'_> {
     }
 }
 
+/// Placements the enumeration may try per partition of its limit. Objects must be connected by
+/// candidate pairs, which only a complete partition shows, so the walk also visits partial
+/// partitions that lead to none: many tracks of one source at different times, met only by a
+/// few tracks that come later in the order, make almost all of them. Past this budget the
+/// component goes to the sampler, as one of more than `limit` partitions does.
+const ENUMERATION_WORK: usize = 64;
+
 fn enumerate(comp: &Component, limit: usize) -> Option<(Vec<Vec<u32>>, Vec<f64>)> {
     let nb = comp.blocks.len();
     // a quick bound: components of many blocks cannot be enumerated within the limit
     if nb > 24 {
         return None;
     }
+    let key = |b: usize| comp.blocks[b].iter().map(|&x| comp.rank[x as usize]).min();
+    let mut order: Vec<u32> = (0..nb as u32).collect();
+    order.sort_by_key(|&b| key(b as usize));
+    let mut pos = vec![0usize; nb];
+    for (k, &b) in order.iter().enumerate() {
+        pos[b as usize] = k;
+    }
+    let reach: Vec<bool> = order
+        .iter()
+        .enumerate()
+        .map(|(k, &b)| {
+            comp.blocks[b as usize].iter().any(|&x| {
+                comp.adj[x as usize]
+                    .iter()
+                    .any(|e| pos[comp.block_of[e.0 as usize] as usize] > k)
+            })
+        })
+        .collect();
     let mut walk = Walk {
         comp,
+        order,
+        reach,
         labels: vec![0u32; nb],
         cells: Vec::new(),
         out_labels: Vec::new(),
         out_logw: Vec::new(),
         scratch: Vec::new(),
         limit,
+        budget: limit.saturating_mul(ENUMERATION_WORK),
     };
     if walk.rec(0) {
         Some((walk.out_labels, walk.out_logw))
@@ -1658,6 +1704,45 @@ mod tests {
         assert!((p.p_alone[0] - (w[0] + w[3]) / z).abs() < 1e-12);
         assert!((p.p_alone[2] - (w[0] + w[1]) / z).abs() < 1e-12);
         assert_eq!(p.components[0].partitions, 5);
+    }
+
+    /// Ten radar fragments of one source at different times, each met only by a vague DF
+    /// track placed after them: almost every partial partition of the fragments leads to no
+    /// connected partition (1,024 of them against about 850,000 placements). With a limit of
+    /// 2,000 partitions the enumeration gives up past its work budget and the sampler answers;
+    /// each fragment joins the DF track independently, with the logistic of its ratio.
+    #[test]
+    fn an_enumeration_of_mostly_disconnected_partitions_gives_up_to_the_sampler() {
+        let mut tracks: Vec<Track> = (0..10)
+            .map(|k| tr(1, 10.0 * k as f64, 10.0 * k as f64 + 5.0, 1.0))
+            .collect();
+        tracks.push(tr(4, 0.0, 100.0, 100.0));
+        let pairs: Vec<(u32, u32)> = (0..10).map(|k| (k, 10)).collect();
+        let llr: Vec<f64> = (0..10).map(|k| -2.0 + 0.5 * k as f64).collect();
+        let inf = Inference {
+            exact_limit: 2_000,
+            ..Inference::default()
+        };
+        let p = posterior(
+            &tracks,
+            &whole(&tracks),
+            &pairs,
+            &own(&llr),
+            &[],
+            &inf,
+            (0.01, 0.99),
+        )
+        .unwrap();
+        assert_eq!(p.components[0].method, Method::Sampled);
+        for (k, l) in llr.iter().enumerate() {
+            let want = 1.0 / (1.0 + (-l).exp());
+            let tol = 5.0 * p.std_error[k] + 0.02;
+            assert!(
+                (p.p_same[k] - want).abs() < tol,
+                "{k}: {} {want}",
+                p.p_same[k]
+            );
+        }
     }
 
     /// An aircraft track X with pairs to an AIS track A (one independent instant) and a radar
