@@ -186,8 +186,11 @@ def test_review_station_in_a_real_browser(served, browser):
     bob.locator("#operator").dispatch_event("change")
     page.goto(f"{url}pair?a={target[0]}&b={target[1]}")
     page.evaluate("document.activeElement.blur()")
-    page.keyboard.press("d")
-    page.wait_for_selector("#message.ok")
+    # the saved decision's message, then the page moves on to the next pair by itself (after
+    # 600 ms): wait for that navigation, or it can abort the test's own next one
+    with page.expect_navigation():
+        page.keyboard.press("d")
+        page.wait_for_selector("#message.ok")
     bob.evaluate("document.activeElement.blur()")
     bob.keyboard.press("s")
     bob.wait_for_selector("#message.conflict")
