@@ -18,9 +18,9 @@
 //! HF DF track joined to an AIS track, and the evidence of each track is counted once. Among the
 //! members at least [`ANCHOR_PRECISION`] times more precise than the joined track, the one
 //! whose pair with it has the most independent instants is taken (the pair that covers most of
-//! the joined track's time: an aircraft track that met a moored ship's AIS track, reporting
-//! every three minutes, at one instant and its radar track at 140 was joined on that one
-//! instant's evidence); without one, the most precise member with a pair. Each
+//! the joined track's time: an aircraft track that met a moored ship's AIS track, whose
+//! reports were further apart than `max_gap`, at one instant and its radar track at 140 was
+//! joined on that one instant's evidence); without one, the most precise member with a pair. Each
 //! further track of a source the object already holds adds that source's break odds
 //! ([`Track::further`], `ln(g_s (1 - P_s) / P_s)`, [`crate::association::evidence::track_breaks`]):
 //! a pair's `L` weighs a merge of two objects seen by different sources, and two tracks of one
