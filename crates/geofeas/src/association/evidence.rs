@@ -427,6 +427,7 @@ pub fn log_likelihood_ratio(
 
 #[cfg(test)]
 mod tests {
+    use super::*;
 
     /// `g_s` by hand: 40 reference tracks with completeness 0.95 stand for 40 objects (one
     /// false in twenty); source 1 (coverage 0.5, false share 0.1) has 60 tracks, 54 real, for
@@ -448,8 +449,6 @@ mod tests {
         assert_eq!(g[2], MIN_TRACK_BREAK);
         assert_eq!(g[3], MIN_TRACK_BREAK);
     }
-
-    use super::*;
 
     /// Reports of `tracks` tracks (sources 0..3) wandering over a few cells with irregular,
     /// non-representable time steps.
