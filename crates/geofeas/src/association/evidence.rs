@@ -443,8 +443,8 @@ mod tests {
             ..Model::default()
         };
         let g = track_breaks(&source, &[0.95, 0.5, 0.2, 0.3], 0, &model);
-        let m = 60.0 * 0.9 / (0.5 * 40.0 * 0.95 / 0.95);
-        assert!((g[1] - (1.0 - 1.0 / m)).abs() < 1e-12, "{g:?}");
+        // 54 real tracks for 0.5 x 40 = 20 seen objects: m = 2.7, g = 1 - 1 / 2.7 = 17 / 27
+        assert!((g[1] - 17.0 / 27.0).abs() < 1e-12, "{g:?}");
         assert_eq!(g[0], MIN_TRACK_BREAK);
         assert_eq!(g[2], MIN_TRACK_BREAK);
         assert_eq!(g[3], MIN_TRACK_BREAK);

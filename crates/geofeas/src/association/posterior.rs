@@ -230,9 +230,10 @@ struct Component {
     /// Global track of each local track.
     tracks: Vec<u32>,
     info: Vec<Track>,
-    /// Sorted adjacency `(neighbour, L, k)` per local track (candidate pairs and decided
+    /// Sorted adjacency `(neighbour, L, k, k_eff)` per local track (candidate pairs and decided
     /// pairs): `L` the pair's log-likelihood ratio, `k` the neighbour's own term in it (see
-    /// [`cell_weight`](Component::cell_weight)).
+    /// [`cell_weight`](Component::cell_weight)), `k_eff` its independent instants (see
+    /// [`anchor`](Component::anchor)).
     adj: Vec<Vec<(u32, f64, f64, f64)>>,
     /// Local tracks of each block (tracks declared the same).
     blocks: Vec<Vec<u32>>,
@@ -254,13 +255,8 @@ impl Component {
         self.edge_parts(x, y).map(|e| e.0)
     }
 
-    /// `(L, k_y)` of the pair `x`, `y`.
-    fn edge_parts(&self, x: u32, y: u32) -> Option<(f64, f64)> {
-        self.edge_full(x, y).map(|e| (e.0, e.1))
-    }
-
     /// `(L, k_y, k_eff)` of the pair `x`, `y`.
-    fn edge_full(&self, x: u32, y: u32) -> Option<(f64, f64, f64)> {
+    fn edge_parts(&self, x: u32, y: u32) -> Option<(f64, f64, f64)> {
         let row = &self.adj[x as usize];
         row.binary_search_by_key(&y, |e| e.0)
             .ok()
@@ -302,7 +298,7 @@ impl Component {
         let mut best: Option<(f64, f64)> = None;
         let mut best_k = f64::NEG_INFINITY;
         for &y in attached {
-            if let Some((l, k_y, k_eff)) = self.edge_full(x, y) {
+            if let Some((l, k_y, k_eff)) = self.edge_parts(x, y) {
                 if first.is_none() {
                     first = Some((l, k_y));
                 }
@@ -376,7 +372,7 @@ fn components(
     pairs: &[(u32, u32)],
     llr: &[f64],
     own: &[(f64, f64)],
-    weight: &[f64],
+    k_eff: &[f64],
     decisions: &[Decision],
 ) -> Result<Vec<Component>> {
     let n = tracks.len();
@@ -473,8 +469,8 @@ fn components(
             let c = comp_of(a, &mut dsu);
             let (la, lb) = (local[a as usize], local[b as usize]);
             let comp = &mut comps[c];
-            comp.adj[la as usize].push((lb, llr[k], own[k].1, weight[k]));
-            comp.adj[lb as usize].push((la, llr[k], own[k].0, weight[k]));
+            comp.adj[la as usize].push((lb, llr[k], own[k].1, k_eff[k]));
+            comp.adj[lb as usize].push((la, llr[k], own[k].0, k_eff[k]));
             comp.pairs.push((k, la, lb));
         }
     }
@@ -1322,7 +1318,7 @@ pub fn posterior(
     }
     let llr: Vec<f64> = evidence.iter().map(|e| e.llr).collect();
     let own: Vec<(f64, f64)> = evidence.iter().map(|e| e.own).collect();
-    let weight: Vec<f64> = evidence.iter().map(|e| e.k_eff).collect();
+    let k_eff: Vec<f64> = evidence.iter().map(|e| e.k_eff).collect();
     if let Some(k) = llr.iter().position(|x| x.is_nan()) {
         return Err(Error::Invalid(format!(
             "pair {k}: log-likelihood ratio is NaN"
@@ -1335,7 +1331,7 @@ pub fn posterior(
             right: cover.len(),
         });
     }
-    let comps = components(tracks, cover, pairs, &llr, &own, &weight, decisions)?;
+    let comps = components(tracks, cover, pairs, &llr, &own, &k_eff, decisions)?;
     type Review = (Vec<f64>, Vec<(u32, u32)>);
     let results: Vec<(Marginals, Review)> = comps
         .par_iter()
