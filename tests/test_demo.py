@@ -527,3 +527,77 @@ def test_old_module_paths_warn_and_are_the_moved_modules():
         with pytest.warns(DeprecationWarning, match="moved to geofeas.demo"):
             module = importlib.import_module(old)
         assert module is moved
+
+
+# ------------------------------------------------------------------- the HF DF oracle's bound
+
+
+def test_emitter_posterior_by_hand():
+    from types import SimpleNamespace
+
+    from geofeas.demo.evaluate import emitter_posterior
+    from geofeas.demo.scenario import Scenario
+
+    lat0, lon0 = 50.8, -1.3
+    m_lat, m_lon = metres_per_degree(np.array([lat0]))
+    east = 1000.0 / m_lon[0]  # vessel B is 1 km east of vessel A
+    tracks = pd.DataFrame(
+        {
+            "mmsi": [1, 1, 2, 2, 3],
+            "time": [0.0, 100.0, 0.0, 100.0, 500.0],  # vessel 3 is unknown at the fix
+            "lat": [lat0, lat0, lat0, lat0, lat0],
+            "lon": [lon0, lon0, lon0 + east, lon0 + east, lon0],
+        }
+    )
+    # one fix at t = 50, 300 m east of A, 2-sigma circle of 1 km (sigma 500 m), and a false one
+    fix_lon = lon0 + 300.0 / m_lon[0]
+    reports = pd.DataFrame(
+        {
+            "track_id": ["hfdf-0000", "hfdf-0001"],
+            "source": ["hfdf", "hfdf"],
+            "time": ["", ""],
+            "lat": [lat0, lat0],
+            "lon": [fix_lon, fix_lon],
+            "rx": [1000.0, 1000.0],
+            "ry": [1000.0, 1000.0],
+            "bearing": [0.0, 0.0],
+            "mmsi": [2, -1],
+        }
+    )
+    got = emitter_posterior(
+        Scenario(reports, np.array([50.0, 50.0])), SimpleNamespace(tracks=tracks)
+    )
+    # m_A = (300 / 500)^2, m_B = (700 / 500)^2: q_A = 1 / (1 + exp(-(1.96 - 0.36) / 2))
+    want_a = 1.0 / (1.0 + math.exp(-0.8))
+    assert list(got["track_id"]) == ["hfdf-0000", "hfdf-0000"]
+    assert list(got["mmsi"]) == [1, 2]
+    assert got["q"].to_numpy() == pytest.approx([want_a, 1.0 - want_a], rel=1e-3)
+
+
+def test_borderline_bound_by_hand_and_against_brute_force(rng):
+    from itertools import product
+
+    from geofeas.demo.evaluate import borderline_bound
+
+    # send the 0.001 group (cost 0.01); 0.05 left buys 2.5 of the 0.02 group's 5 pairs; the
+    # 0.995 group is a merge, not borderline
+    got = borderline_bound([0.001, 0.02, 0.5, 0.995], [10, 5, 2, 4], 0.06)
+    assert got == pytest.approx(17 - 10 - 2.5)
+    for _ in range(200):
+        k = int(rng.integers(1, 8))
+        q = rng.choice([0.0, 0.001, 0.01, 0.05, 0.2, 0.7, 0.999], size=k)
+        n = rng.integers(0, 6, size=k).astype(float)
+        budget = float(rng.uniform(0, 2))
+        best = math.inf
+        for send in product([False, True], repeat=k):
+            s = np.array(send)
+            if (q * n)[s].sum() <= budget + 1e-12:
+                best = min(best, n[~s & (q < 0.99)].sum())
+        bound = borderline_bound(q, n, budget)
+        # a relaxation: never above the best whole choice, and short of it by less than one group
+        assert bound <= best + 1e-9
+        assert bound > best - n.max() - 1e-9
+    with pytest.raises(geofeas.GeofeasError, match="budget"):
+        borderline_bound([0.1], [1], -1.0)
+    with pytest.raises(geofeas.GeofeasError, match="probabilities"):
+        borderline_bound([1.1], [1], 1.0)

@@ -20,15 +20,16 @@ use geofeas::association::{self, posterior, PairStat, Picture};
 use geofeas::error::Error;
 
 /// The fields of a [`PairStat`], in the order the bindings exchange them.
-const STAT_FIELDS: [&str; 9] = [
+const STAT_FIELDS: [&str; 10] = [
     "score",
     "instants",
     "sum_m",
     "k_eff",
-    "sum_mg",
-    "sum_ln_det",
+    "mean_mg",
+    "mean_ln_det",
     "mean_trace_over_det",
     "mean_inv_det",
+    "evidence_k_eff",
     "pos",
 ];
 
@@ -81,10 +82,11 @@ pub struct PairStats {
     instants: Py<PyArray1<u32>>,
     sum_m: Py<PyArray1<f64>>,
     k_eff: Py<PyArray1<f64>>,
-    sum_mg: Py<PyArray1<f64>>,
-    sum_ln_det: Py<PyArray1<f64>>,
+    mean_mg: Py<PyArray1<f64>>,
+    mean_ln_det: Py<PyArray1<f64>>,
     mean_trace_over_det: Py<PyArray1<f64>>,
     mean_inv_det: Py<PyArray1<f64>>,
+    evidence_k_eff: Py<PyArray1<f64>>,
     pos_0: Py<PyArray1<f64>>,
     pos_1: Py<PyArray1<f64>>,
 }
@@ -110,10 +112,11 @@ pub(super) fn pair_stats(py: Python<'_>, out: &[PairStat]) -> PairStats {
         instants: instants.into_pyarray(py).unbind(),
         sum_m: col(|p| p.sum_m),
         k_eff: col(|p| p.k_eff),
-        sum_mg: col(|p| p.sum_mg),
-        sum_ln_det: col(|p| p.sum_ln_det),
+        mean_mg: col(|p| p.mean_mg),
+        mean_ln_det: col(|p| p.mean_ln_det),
         mean_trace_over_det: col(|p| p.mean_trace_over_det),
         mean_inv_det: col(|p| p.mean_inv_det),
+        evidence_k_eff: col(|p| p.evidence_k_eff),
         pos_0: col(|p| p.pos[0]),
         pos_1: col(|p| p.pos[1]),
     }
@@ -316,10 +319,11 @@ fn association_finish<'py>(
                     instants: instants[i],
                     sum_m: cols[1][i],
                     k_eff: cols[2][i],
-                    sum_mg: cols[3][i],
-                    sum_ln_det: cols[4][i],
+                    mean_mg: cols[3][i],
+                    mean_ln_det: cols[4][i],
                     mean_trace_over_det: cols[5][i],
                     mean_inv_det: cols[6][i],
+                    evidence_k_eff: cols[7][i],
                     pos: [p0[i], p1[i]],
                 },
             )

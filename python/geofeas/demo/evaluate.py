@@ -21,6 +21,8 @@ from .._core import GeofeasError
 
 __all__ = [
     "Metrics",
+    "borderline_bound",
+    "emitter_posterior",
     "evaluate",
     "labels",
     "prf",
@@ -404,3 +406,90 @@ def simulate_operator(
             continue  # the queue ran dry: nothing new to record
         record()
     return pd.DataFrame(rows)
+
+
+def emitter_posterior(scenario: Any, recording: Any, *, source: str = "hfdf") -> pd.DataFrame:
+    """What an oracle knows of which vessel emitted each real track of ``source``.
+
+    The oracle knows every vessel's true path (the recording, as :func:`~.scenario.simulate`
+    reads it), that the track is real, and the exact law of its errors: each report is the
+    vessel's position plus an independent draw from the Gaussian of the report's own AOU, as
+    the simulated HF DF fixes are. With the uniform prior over the vessels that the simulation
+    draws its emitters from, the posterior of vessel ``v`` is proportional to
+    ``prod_j N(x_j - v(t_j); 0, R_j)`` over the track's reports, among the vessels whose path
+    is known at every report time. No method that sees only the tracks knows more: the other
+    tracks' errors are independent of which vessel emitted, given the true paths.
+
+    Returns one row per (track, vessel) with posterior ``q > 1e-12``: ``track_id``, ``mmsi``,
+    ``q``, and ``reports`` (the track's number of reports).
+    """
+    from .scenario import Truth, covariance_from_aou, metres_per_degree
+
+    reports = scenario.reports
+    seconds = np.asarray(scenario.seconds, dtype=np.float64)
+    mask = (reports["source"] == source).to_numpy() & (reports["mmsi"].to_numpy() >= 0)
+    truth = Truth.from_recording(recording)
+    rows: list[dict[str, Any]] = []
+    sub = reports[mask]
+    for tid, idx in sub.groupby("track_id", sort=True).indices.items():
+        g = sub.iloc[idx]
+        t = seconds[mask][idx]
+        lat, lon = g["lat"].to_numpy(np.float64), g["lon"].to_numpy(np.float64)
+        inv = np.linalg.inv(
+            covariance_from_aou(g["rx"].to_numpy(), g["ry"].to_numpy(), g["bearing"].to_numpy())
+        )
+        m_lat, m_lon = metres_per_degree(lat)
+        ll = np.full(len(truth), -np.inf)
+        for k in range(len(truth)):
+            v_lat, v_lon, known = truth.vessel(k, t)
+            if not known.all():
+                continue
+            d = np.stack([(lon - v_lon) * m_lon, (lat - v_lat) * m_lat], axis=-1)
+            ll[k] = -0.5 * np.einsum("ni,nij,nj->", d, inv, d)
+        if not np.isfinite(ll).any():
+            continue
+        q = np.exp(ll - ll.max())
+        q /= q.sum()
+        for k in np.flatnonzero(q > 1e-12):
+            rows.append(
+                dict(track_id=tid, mmsi=int(truth.mmsi[k]), q=float(q[k]), reports=len(idx))
+            )
+    return pd.DataFrame(rows, columns=["track_id", "mmsi", "q", "reports"])
+
+
+def borderline_bound(q: Any, n: Any, budget: float, *, p_match: float = 0.99) -> float:
+    """The fewest borderline pairs a triage can leave among groups of pairs, each group true
+    with probability ``q`` (the oracle's) and holding ``n`` pairs, while the expected number of
+    true pairs it classes ``non-match`` stays within ``budget``.
+
+    A group may be sent to ``non-match`` at an expected cost of ``q n`` true pairs lost, or kept
+    (``borderline``, ``n`` pairs; groups with ``q >= p_match`` may be merged instead and cost
+    nothing here). The bound is the fractional relaxation of that knapsack, solved exactly by
+    sending the least probable groups to ``non-match`` first: no triage, however it is made, can
+    leave fewer borderline pairs in expectation.
+    """
+    q = np.asarray(q, dtype=np.float64)
+    n = np.asarray(n, dtype=np.float64)
+    if q.shape != n.shape or q.ndim != 1:
+        raise GeofeasError(f"borderline_bound: q has shape {q.shape}, n {n.shape}")
+    if q.size and (np.isnan(q).any() or q.min() < 0 or q.max() > 1):
+        raise GeofeasError("borderline_bound: q must be probabilities in [0, 1]")
+    if n.size and (np.isnan(n).any() or n.min() < 0):
+        raise GeofeasError("borderline_bound: n must be non-negative counts")
+    if not budget >= 0:
+        raise GeofeasError(f"borderline_bound: budget must be >= 0, got {budget}")
+    keep = q < p_match
+    q, n = q[keep], n[keep]
+    order = np.argsort(q, kind="stable")
+    left = float(budget)
+    kept = float(n.sum())
+    for i in order:
+        cost = q[i] * n[i]
+        if cost <= left:
+            left -= cost
+            kept -= n[i]
+        else:
+            if q[i] > 0:
+                kept -= left / q[i]
+            break
+    return kept

@@ -321,10 +321,11 @@ _STATS = (
     ("instants", np.uint32),
     ("sum_m", np.float64),
     ("k_eff", np.float64),
-    ("sum_mg", np.float64),
-    ("sum_ln_det", np.float64),
+    ("mean_mg", np.float64),
+    ("mean_ln_det", np.float64),
     ("mean_trace_over_det", np.float64),
     ("mean_inv_det", np.float64),
+    ("evidence_k_eff", np.float64),
     ("pos_0", np.float64),
     ("pos_1", np.float64),
 )

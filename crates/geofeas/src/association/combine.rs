@@ -273,14 +273,7 @@ fn effective_count(mut xs: impl Iterator<Item = f64>, k: usize, tau: f64) -> f64
     // sum_{i<j} rho_ij by the recursion S_j = rho_{j-1,j} (S_{j-1} + 1)
     let (mut s, mut total) = (0.0f64, 0.0f64);
     for x in xs {
-        let rho = if x == prev {
-            1.0
-        } else if tau > 0.0 {
-            (-2.0 * (x - prev) / tau).exp()
-        } else {
-            0.0
-        };
-        s = rho * (s + 1.0);
+        s = rho(x - prev, tau) * (s + 1.0);
         total += s;
         prev = x;
     }
@@ -309,10 +302,23 @@ pub fn pair_effective_instants(
     if k < 2 {
         return k as f64;
     }
-    // each instant's nearest report (ties to the earlier), walking both sorted lists once
-    let count = |reports: &[f64]| {
-        let mut j = 0;
-        let snapped = times.iter().map(move |&t| {
+    let count = |reports: &[f64]| effective_count(snapped(times, reports).into_iter(), k, tau);
+    let w = if share_a.is_finite() {
+        share_a.clamp(0.0, 1.0)
+    } else {
+        0.5
+    };
+    let (ka, kb) = (count(reports_a), count(reports_b));
+    (1.0 / (w / ka + (1.0 - w) / kb)).clamp(1.0, k as f64)
+}
+
+/// Each instant's nearest report time in `reports` (sorted; ties to the earlier), for sorted
+/// `times`: the report whose error the instant carries.
+fn snapped(times: &[f64], reports: &[f64]) -> Vec<f64> {
+    let mut j = 0;
+    times
+        .iter()
+        .map(|&t| {
             while j < reports.len() && reports[j] < t {
                 j += 1;
             }
@@ -328,16 +334,87 @@ pub fn pair_effective_instants(
                 (None, Some(&hi)) => hi,
                 (None, None) => t,
             }
-        });
-        effective_count(snapped, k, tau)
-    };
+        })
+        .collect()
+}
+
+/// The correlation of the squared distances at two error times `dt >= 0` apart.
+fn rho(dt: f64, tau: f64) -> f64 {
+    if dt == 0.0 {
+        1.0
+    } else if tau > 0.0 {
+        (-2.0 * dt / tau).exp()
+    } else {
+        0.0
+    }
+}
+
+/// `sum_j rho_ij` for every `i` over non-decreasing error times `xs` (two passes of the
+/// exponential kernel's recursion).
+fn correlation_mass(xs: &[f64], tau: f64) -> Vec<f64> {
+    let n = xs.len();
+    let mut mass = vec![1.0; n];
+    let mut s = 0.0;
+    for i in 1..n {
+        s = rho(xs[i] - xs[i - 1], tau) * (s + 1.0);
+        mass[i] += s;
+    }
+    s = 0.0;
+    for i in (0..n.saturating_sub(1)).rev() {
+        s = rho(xs[i + 1] - xs[i], tau) * (s + 1.0);
+        mass[i] += s;
+    }
+    mass
+}
+
+/// `sum_ij w_i w_j rho_ij` over non-decreasing error times `xs`.
+fn weighted_correlation_sum(xs: &[f64], w: &[f64], tau: f64) -> f64 {
+    let mut total: f64 = w.iter().map(|x| x * x).sum();
+    let mut s = 0.0;
+    for i in 1..xs.len() {
+        s = rho(xs[i] - xs[i - 1], tau) * (s + w[i - 1]);
+        total += 2.0 * w[i] * s;
+    }
+    total
+}
+
+/// The weights of a pair's instants in its evidence, and the independent instants they are
+/// worth (`docs/association.md`, "The joint model").
+///
+/// An instant carries the errors of each track's nearest report, correlated as in
+/// [`pair_effective_instants`]: `rho_ij = w_a rho^a_ij + w_b rho^b_ij`. Instant `i` weighs
+/// `1 / sum_j rho_ij`, so that a group of instants carrying one report's error counts once
+/// however many instants fall in it: the instants between two HF DF fixes 200 s apart, at every
+/// radar scan, weigh together as much as one isolated fix does. The weighted mean's variance
+/// gives the count `k_eff = (sum w)^2 / sum_ij w_i w_j rho_ij`, clamped to `[1, k]`: the number
+/// of groups for groups of fully correlated instants, `k` for independent ones.
+pub fn pair_instant_weights(
+    times: &[f64],
+    reports_a: &[f64],
+    reports_b: &[f64],
+    share_a: f64,
+    tau: f64,
+) -> (Vec<f64>, f64) {
+    let k = times.len();
+    if k < 2 {
+        return (vec![1.0; k], k as f64);
+    }
     let w = if share_a.is_finite() {
         share_a.clamp(0.0, 1.0)
     } else {
         0.5
     };
-    let (ka, kb) = (count(reports_a), count(reports_b));
-    (1.0 / (w / ka + (1.0 - w) / kb)).clamp(1.0, k as f64)
+    let (xa, xb) = (snapped(times, reports_a), snapped(times, reports_b));
+    let (ma, mb) = (correlation_mass(&xa, tau), correlation_mass(&xb, tau));
+    let weights: Vec<f64> = ma
+        .iter()
+        .zip(&mb)
+        .map(|(a, b)| 1.0 / (w * a + (1.0 - w) * b))
+        .collect();
+    let sum: f64 = weights.iter().sum();
+    let var = w * weighted_correlation_sum(&xa, &weights, tau)
+        + (1.0 - w) * weighted_correlation_sum(&xb, &weights, tau);
+    (weights, (sum * sum / var).clamp(1.0, k as f64))
 }
 
 #[cfg(test)]
@@ -368,6 +445,74 @@ mod tests {
             (got - effective_instants(&times, 20.0)).abs() < 1e-9,
             "{got}"
         );
+    }
+
+    /// An HF DF-like track: two fixes 10 s apart with a dense partner between them, then two
+    /// isolated fixes. Each fix's group of instants weighs 1 in all, and the instants are worth
+    /// the four fixes (the unweighted mean's count, `k^2 / sum g^2`, is 169 / 63).
+    #[test]
+    fn instant_weights_count_each_report_once() {
+        let mut times: Vec<f64> = (0..=10).map(f64::from).collect();
+        times.extend([1000.0, 2000.0]);
+        let vague = [0.0, 10.0, 1000.0, 2000.0];
+        let (w, k_eff) = pair_instant_weights(&times, &vague, &times, 1.0, 0.0);
+        // instants 0..=5 are nearest the fix at 0 (the tie at 5 to the earlier), 6..=10 the fix at 10
+        for (i, x) in w.iter().enumerate() {
+            let want = match i {
+                0..=5 => 1.0 / 6.0,
+                6..=10 => 1.0 / 5.0,
+                _ => 1.0,
+            };
+            assert!((x - want).abs() < 1e-15, "{i}: {x}");
+        }
+        assert!((k_eff - 4.0).abs() < 1e-12, "{k_eff}");
+        // the dense partner's errors are independent at every instant
+        let (w, k_eff) = pair_instant_weights(&times, &vague, &times, 0.0, 0.0);
+        assert!(w.iter().all(|&x| x == 1.0));
+        assert_eq!(k_eff, 13.0);
+    }
+
+    /// The weights and the count against a brute-force sum over all pairs of instants.
+    #[test]
+    fn instant_weights_match_brute_force() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(7);
+        for case in 0..40 {
+            let k = rng.random_range(2..60);
+            // times on a 10 s grid, so that instants and reports coincide now and then
+            let mut times: Vec<f64> = (0..k)
+                .map(|_| 10.0 * f64::from(rng.random_range(0..300)))
+                .collect();
+            times.sort_by(f64::total_cmp);
+            let mut reports = |n: usize| {
+                let mut r: Vec<f64> = (0..n)
+                    .map(|_| 10.0 * f64::from(rng.random_range(0..300)))
+                    .collect();
+                r.sort_by(f64::total_cmp);
+                r
+            };
+            let (ra, rb) = (reports(1 + case % 7), reports(1 + 3 * case));
+            let share: f64 = rng.random_range(0.0..1.0);
+            let tau = [0.0, 30.0, 300.0][case % 3];
+            let (w, k_eff) = pair_instant_weights(&times, &ra, &rb, share, tau);
+            let (xa, xb) = (snapped(&times, &ra), snapped(&times, &rb));
+            let r = |x: &[f64], i: usize, j: usize| rho((x[i] - x[j]).abs(), tau);
+            let corr = |i: usize, j: usize| share * r(&xa, i, j) + (1.0 - share) * r(&xb, i, j);
+            let mut var = 0.0;
+            for i in 0..k {
+                let mass: f64 = (0..k).map(|j| corr(i, j)).sum();
+                assert!((w[i] * mass - 1.0).abs() < 1e-9, "case {case}, instant {i}");
+                for j in 0..k {
+                    var += w[i] * w[j] * corr(i, j);
+                }
+            }
+            let sum: f64 = w.iter().sum();
+            let want = (sum * sum / var).clamp(1.0, k as f64);
+            assert!(
+                (k_eff - want).abs() < 1e-9 * want,
+                "case {case}: {k_eff} {want}"
+            );
+        }
     }
 
     #[test]

@@ -11,8 +11,9 @@
 //! object density `mu` (objects per m^2); at every later *independent* instant it is where its
 //! own motion puts it, a density whose expected log is `h_t = -1 - ln(2 pi sqrt(det(S_t + Q)))`
 //! with `Q = 2 q tau I` the spread of straight-line motion over one correlation time (`q` the
-//! process noise, `tau` the correlation time). With `k` instants worth `k_eff` independent ones
-//! ([`crate::association::combine::pair_effective_instants`]) and means over the instants,
+//! process noise, `tau` the correlation time). With means over the instants that count every
+//! report's error once, worth `k_eff` independent instants
+//! ([`crate::association::combine::pair_instant_weights`]),
 //!
 //! `L = (mean l - ln mu) + (k_eff - 1) (mean l - mean h) + ln kappa + ln(1 - F_a) + ln(1 - F_b)`
 //!
@@ -389,38 +390,38 @@ pub fn log_likelihood_ratio(
     q: f64,
     tau: f64,
 ) -> PairEvidence {
-    let k = stat.instants as f64;
+    let k = stat.instants;
     let none = PairEvidence {
         llr: f64::NEG_INFINITY,
         own: (0.0, 0.0),
         k_eff: 0.0,
     };
-    if k == 0.0 {
+    if k == 0 {
         return none;
     }
     let two_pi_ln = (2.0 * std::f64::consts::PI).ln();
     // mean l: -m/(2c) - ln(2 pi) - ln c - ln det S / 2
-    let mean_l = -0.5 * stat.sum_mg / (c * k) - two_pi_ln - c.ln() - 0.5 * stat.sum_ln_det / k;
+    let mean_l = -0.5 * stat.mean_mg / c - two_pi_ln - c.ln() - 0.5 * stat.mean_ln_det;
     // mean h - mean l's normaliser part: ln det(cS + Q) - ln det(cS) = ln(1 + Q u / c + Q^2 v / c^2)
     let qq = 2.0 * q * tau;
     let widen = 0.5
         * (1.0 + qq * stat.mean_trace_over_det / c + qq * qq * stat.mean_inv_det / (c * c)).ln();
     // mean l - mean h = -m/(2c) + 1 + widen
-    let fit = -0.5 * stat.sum_mg / (c * k) + 1.0 + widen;
+    let fit = -0.5 * stat.mean_mg / c + 1.0 + widen;
     let mu = picture.density_at(stat.pos);
     let own = (
         picture.ln_not_false(model, sources.0, mu),
         picture.ln_not_false(model, sources.1, mu),
     );
     let prior = picture.ln_kappa + own.0 + own.1;
-    let l = (mean_l - mu.ln()) + (stat.k_eff - 1.0).max(0.0) * fit + prior;
+    let l = (mean_l - mu.ln()) + (stat.evidence_k_eff - 1.0).max(0.0) * fit + prior;
     if l.is_nan() || own.0.is_nan() || own.1.is_nan() {
         none
     } else {
         PairEvidence {
             llr: l,
             own,
-            k_eff: stat.k_eff,
+            k_eff: stat.evidence_k_eff,
         }
     }
 }

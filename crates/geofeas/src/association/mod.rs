@@ -315,15 +315,18 @@ pub struct PairStat {
     pub sum_m: f64,
     /// Effective number of instants (see [`combine::pair_effective_instants`]).
     pub k_eff: f64,
-    /// Sum of the Gaussian squared distances `d^T S^-1 d` (the evidence's; equal to `sum_m`
-    /// for the plain GLR).
-    pub sum_mg: f64,
-    /// Sum of `ln det S`.
-    pub sum_ln_det: f64,
-    /// Mean of `tr S / det S`.
+    /// The evidence's means over the instants, each instant weighed by
+    /// [`combine::pair_instant_weights`]: of the Gaussian squared distances `d^T S^-1 d` (the
+    /// plain GLR's `m`),
+    pub mean_mg: f64,
+    /// of `ln det S`,
+    pub mean_ln_det: f64,
+    /// of `tr S / det S`
     pub mean_trace_over_det: f64,
-    /// Mean of `1 / det S`.
+    /// and of `1 / det S`.
     pub mean_inv_det: f64,
+    /// The independent instants the weighted means are worth.
+    pub evidence_k_eff: f64,
     /// Position of the less precise track at the middle instant (density look-up).
     pub pos: [f64; 2],
 }
@@ -335,10 +338,11 @@ impl PairStat {
         instants: 0,
         sum_m: 0.0,
         k_eff: 0.0,
-        sum_mg: 0.0,
-        sum_ln_det: 0.0,
+        mean_mg: 0.0,
+        mean_ln_det: 0.0,
         mean_trace_over_det: 0.0,
         mean_inv_det: 0.0,
+        evidence_k_eff: 0.0,
         pos: [0.0; 2],
     };
 }
@@ -363,16 +367,36 @@ pub fn pair_stat(r: &Reports, a: usize, b: usize, o: &Options) -> PairStat {
     } else {
         o.combine.combine(&p.g, &p.m, &p.time, o.correlation_time)
     };
-    let kf = (k as f64).max(1.0);
+    let (weights, evidence_k_eff) = combine::pair_instant_weights(
+        &p.time,
+        r.times(a),
+        r.times(b),
+        p.share_a,
+        o.correlation_time,
+    );
+    let total: f64 = weights.iter().sum();
+    let mean = |f: usize| -> f64 {
+        if k == 0 {
+            0.0
+        } else {
+            p.gauss
+                .iter()
+                .zip(&weights)
+                .map(|(x, w)| w * x[f])
+                .sum::<f64>()
+                / total
+        }
+    };
     PairStat {
         score,
         instants: k as u32,
         sum_m,
         k_eff,
-        sum_mg: p.gauss.iter().map(|x| x[0]).sum(),
-        sum_ln_det: p.gauss.iter().map(|x| x[1]).sum(),
-        mean_trace_over_det: p.gauss.iter().map(|x| x[2]).sum::<f64>() / kf,
-        mean_inv_det: p.gauss.iter().map(|x| x[3]).sum::<f64>() / kf,
+        mean_mg: mean(0),
+        mean_ln_det: mean(1),
+        mean_trace_over_det: mean(2),
+        mean_inv_det: mean(3),
+        evidence_k_eff,
         pos: p.pos,
     }
 }
@@ -670,5 +694,56 @@ mod tests {
         let got = one_question_per_track(vec![0, 1, 2, 3, 4], &pairs, 7);
         // round 0: (0 1), (3 4), (2 6); round 1: (0 2), (1 5)
         assert_eq!(got, vec![0, 2, 4, 1, 3]);
+    }
+
+    /// A vague track's fixes weigh once each in the evidence, however many instants of its
+    /// precise partner fall between two of them: fixes at 0 and 10 s (eleven instants between
+    /// them, `m = 0`), then isolated fixes at 1000 s (`m = 4`) and 2000 s (`m = 8`). The
+    /// evidence's mean is (0 + 0 + 4 + 8) / 4 = 3 over four independent fixes; the plain mean
+    /// over the 13 instants would be 12 / 13.
+    #[test]
+    fn evidence_weighs_each_fix_once() {
+        let s: f64 = 0.25 + 1.0e6; // R_a + R_b per axis: 2-sigma radii 1 m and 2 km
+        let mut track = vec![];
+        let mut time = vec![];
+        let mut aou = vec![];
+        for t in 0..=2000 {
+            track.push(0);
+            time.push(f64::from(t));
+            aou.push([0.0, 0.0, 1.0, 1.0, 0.0]);
+        }
+        for (t, x) in [
+            (0.0, 0.0),
+            (10.0, 0.0),
+            (1000.0, (4.0 * s).sqrt()),
+            (2000.0, (8.0 * s).sqrt()),
+        ] {
+            track.push(1);
+            time.push(t);
+            aou.push([x, 0.0, 2000.0, 2000.0, 0.0]);
+        }
+        let source: Vec<u32> = track.clone();
+        let r = Reports::new(Coords::Planar, 2, &track, &source, &time, &aou).unwrap();
+        let o = Options {
+            correlation_time: 0.0,
+            inflation: Some(1.0),
+            align: Alignment {
+                process_noise: 0.0,
+                ..Alignment::default()
+            },
+            ..Options::default()
+        };
+        let st = pair_stat(&r, 0, 1, &o);
+        assert_eq!(st.instants, 13);
+        // track 0 holds 2.5e-7 of the covariance, whose independent errors move the weights
+        // of a group of g instants by about that share times g: 1e-5 is far above that and far
+        // below the plain mean's distance from the weighted one
+        assert!((st.mean_mg - 3.0).abs() < 1e-5, "{}", st.mean_mg);
+        assert!((st.mean_ln_det - 2.0 * s.ln()).abs() < 1e-5);
+        assert!(
+            (st.evidence_k_eff - 4.0).abs() < 1e-5,
+            "{}",
+            st.evidence_k_eff
+        );
     }
 }
