@@ -9,8 +9,9 @@ method that sees only the tracks knows more. Its candidate pairs with a vessel's
 group: true with the oracle's probability ``q``. The fewest borderline pairs that any triage
 can leave among the HF DF pairs while it loses at most 1 % of the picture's true pairs to
 ``non-match`` in expectation is the bound of ``geofeas.demo.evaluate.borderline_bound`` (the
-whole 1 % budget given to HF DF, none to the other pairs). Printed per seed, beside what
-``geofeas.associate`` (defaults) does on the same picture.
+whole 1 % budget given to HF DF, none to the other pairs; ``oracle_borderline``, which
+``geofeas demo`` prints). Printed per
+seed, beside what ``geofeas.associate`` (defaults) does on the same picture.
 """
 
 from __future__ import annotations
@@ -22,12 +23,7 @@ import pandas as pd
 
 import geofeas
 from geofeas.demo import bundled
-from geofeas.demo.evaluate import (
-    borderline_bound,
-    emitter_posterior,
-    track_table,
-    true_pairs,
-)
+from geofeas.demo.evaluate import borderline_bound, oracle_groups, track_table, true_pairs
 from geofeas.demo.scenario import simulate
 from geofeas.io.ais import read_ais
 
@@ -40,41 +36,27 @@ def measure(recording: str, seed: int) -> dict[str, float]:
     res = geofeas.associate(sc.reports)
     p = res.pairs
     a, b = p["track_a"].astype(str).to_numpy(), p["track_b"].astype(str).to_numpy()
-    src, mmsi = tracks["source"], tracks["mmsi"]
+    src = tracks["source"]
     df_a = src.loc[a].to_numpy() == "hfdf"
     df_b = src.loc[b].to_numpy() == "hfdf"
     df = df_a | df_b
     cls = p["class"].to_numpy()
     y = np.array([((x, z) if x < z else (z, x)) in truth for x, z in zip(a, b, strict=True)])
-    # the HF DF track's candidate pairs, grouped by the partner's vessel
-    fix = np.where(df_a, a, b)[df]
-    partner = np.where(df_a, b, a)[df]
-    pm = mmsi.loc[partner].to_numpy()
-    real = (mmsi.loc[fix].to_numpy() >= 0) & (pm >= 0)
-    groups = (
-        pd.DataFrame({"track_id": fix[real], "mmsi": pm[real]})
-        .groupby(["track_id", "mmsi"])
-        .size()
-        .rename("n")
-        .reset_index()
-    )
-    oracle = emitter_posterior(sc, rec)
-    groups = groups.merge(oracle[["track_id", "mmsi", "q"]], how="left", on=["track_id", "mmsi"])
-    groups["q"] = groups["q"].fillna(0.0)
     n_true = len(truth)
-    bound = borderline_bound(groups["q"], groups["n"], 0.01 * n_true)
+    groups = oracle_groups(sc, rec, p, tracks)
+    bound = borderline_bound(groups["q"].to_numpy(), groups["n"].to_numpy(), 0.01 * n_true)
     return dict(
         recording=recording,
         seed=seed,
         true_pairs=n_true,
-        hfdf_groups_above_1pc=int((groups["q"] > 0.01).sum()),
+        oracle_groups_above_1pc=int((groups["q"] > 0.01).sum()),
         oracle_bound=round(bound),
         oracle_load=round(bound / n_true, 2),
         model_borderline_hfdf=int(((cls == "borderline") & df).sum()),
         model_borderline_other=int(((cls == "borderline") & ~df).sum()),
         model_load=round(float((cls == "borderline").sum()) / n_true, 2),
         model_lost_hfdf=int(((cls == "non-match") & df & y).sum()),
-        oracle_expected_lost_hfdf=round(
+        oracle_triage_expected_loss=round(
             float((groups["q"] * groups["n"])[groups["q"] < 0.01].sum()), 1
         ),
     )

@@ -7,8 +7,10 @@ their reports and scores the association against the MMSI ground truth: precisio
 of the duplicate-track pairs, the candidate pairs per triage class and the time taken, for the
 default association: the operator load (borderline pairs per true duplicate), the precision of
 the automatic merges, the true pairs lost to non-match, the calibration of p_same (expected
-calibration error) and the F1 a truthful operator reaches after 0, 25, 50, 100 and 200
-decisions in review order. Writes into ``--out``: ``reports.csv`` (the simulated reports, with
+calibration error), the F1 a truthful operator reaches after 0, 25, 50, 100 and 200
+decisions in review order, and, with HF DF, the fewest borderline HF DF pairs any triage can
+leave while losing at most 1 % of the true pairs (an oracle's bound: what geometry cannot
+decide). Writes into ``--out``: ``reports.csv`` (the simulated reports, with
 the truth column ``mmsi``; ``geofeas associate`` reads it), ``pairs.csv`` (the default
 association's candidate pairs with the truth), ``metrics.csv`` and ``metrics.md``,
 ``metrics_by_sources.csv``, ``calibration.csv`` and ``calibration.png`` (the reliability
@@ -98,6 +100,12 @@ def main(args: argparse.Namespace) -> int:
         f"{summ['lost']:.2%} of the true pairs lost to non-match"
     )
     print(f"  calibration of p_same: expected calibration error {summ['ece']:.4f}")
+    if summ["oracle_load"] == summ["oracle_load"]:
+        print(
+            f"  HF DF, what geometry cannot decide: an oracle knowing every vessel's true path "
+            f"leaves at least {result.oracle_borderline:.0f} borderline HF DF pairs "
+            f"({summ['oracle_load']:.3f} per true duplicate) to lose at most 1% of the true pairs"
+        )
     if result.operator is not None:
         steps = "  ".join(f"{int(r.decisions)}: {fmt(r.f1)}" for r in result.operator.itertuples())
         print(f"  F1 after truthful decisions in review order: {steps}")

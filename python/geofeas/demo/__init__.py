@@ -28,8 +28,16 @@ from .._core import GeofeasError
 from ..association import COMBINE_RULES, associate, read_reports
 from ..geodesy import metres_per_degree
 from ..io.ais import AisRecording, read_ais
-from .evaluate import Metrics, evaluate, labels, reliability, simulate_operator, track_table
-from .scenario import Scenario, simulate
+from .evaluate import (
+    Metrics,
+    evaluate,
+    labels,
+    oracle_borderline,
+    reliability,
+    simulate_operator,
+    track_table,
+)
+from .scenario import HfDf, Scenario, simulate
 
 __all__ = ["RECORDINGS", "SCORES", "DemoResult", "Progress", "bundled", "plot_map", "run"]
 
@@ -116,11 +124,16 @@ class DemoResult:
     ece: float = math.nan
     #: F1 after each number of truthful operator decisions (:func:`simulate_operator`).
     operator: pd.DataFrame | None = None
+    #: With one HF DF source: the fewest borderline HF DF pairs any triage can leave while it
+    #: loses at most 1 % of the true pairs (:func:`geofeas.demo.evaluate.oracle_borderline`).
+    oracle_borderline: float = math.nan
 
     def summary(self) -> dict[str, float]:
         """The operator's view of the default association: ``operator_load`` (borderline pairs
         per true duplicate pair), ``merge_precision`` (share of the automatic merges that are
-        right), ``lost`` (share of the true pairs classed ``non-match``) and ``ece``."""
+        right), ``lost`` (share of the true pairs classed ``non-match``), ``ece`` and
+        ``oracle_load`` (:attr:`oracle_borderline` per true pair; NaN without one HF DF
+        source)."""
         pairs = self.default.pairs
         y = labels(pairs, self.tracks)
         cls = pairs["class"].to_numpy()
@@ -131,6 +144,7 @@ class DemoResult:
             merge_precision=float(y[match].mean()) if match.any() else math.nan,
             lost=float((y & (cls == "non-match")).sum() / n_true),
             ece=self.ece,
+            oracle_load=self.oracle_borderline / n_true,
         )
 
     def metrics_table(self) -> pd.DataFrame:
@@ -235,6 +249,14 @@ def run(
     if bar:
         bar.step(f"glr / {dflt} (default)")
     table, ece = reliability(default.pairs["p_same"], labels(default.pairs, tracks))
+    df_names = [
+        "hfdf" if spec == "hfdf" else spec.name
+        for spec in sensors
+        if spec == "hfdf" or isinstance(spec, HfDf)
+    ]
+    bound = math.nan
+    if len(df_names) == 1:
+        bound = oracle_borderline(sc, rec, default.pairs, tracks, source=df_names[0])
     runs = []
     for s, c in configs:
         runs.append(_associate(reports, tracks, s, c, opts))
@@ -245,7 +267,7 @@ def run(
         op = simulate_operator(default.association, tracks, checkpoints=operator)
         if bar:
             bar.step("simulated operator")
-    return DemoResult(rec, sc, tracks, default, runs, table, ece, op)
+    return DemoResult(rec, sc, tracks, default, runs, table, ece, op, bound)
 
 
 # ------------------------------------------------------------------------------------ map

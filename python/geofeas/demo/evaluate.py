@@ -24,6 +24,8 @@ __all__ = [
     "borderline_bound",
     "emitter_posterior",
     "evaluate",
+    "oracle_borderline",
+    "oracle_groups",
     "labels",
     "prf",
     "reliability",
@@ -493,3 +495,60 @@ def borderline_bound(q: Any, n: Any, budget: float, *, p_match: float = 0.99) ->
                 kept -= left / q[i]
             break
     return kept
+
+
+def oracle_groups(
+    scenario: Any,
+    recording: Any,
+    pairs: pd.DataFrame,
+    tracks: pd.DataFrame,
+    *,
+    source: str = "hfdf",
+) -> pd.DataFrame:
+    """The candidate pairs of each real track of ``source`` with one vessel's tracks, as groups:
+    ``track_id``, ``mmsi``, ``n`` (pairs) and ``q``, the oracle's probability that the vessel
+    emitted the track (:func:`emitter_posterior`; 0 where it gives none). ``tracks`` is the
+    :func:`track_table` of the scenario's reports."""
+    a = pairs["track_a"].astype(str).to_numpy()
+    b = pairs["track_b"].astype(str).to_numpy()
+    src, mmsi = tracks["source"], tracks["mmsi"]
+    in_a = src.loc[a].to_numpy() == source
+    in_b = src.loc[b].to_numpy() == source
+    one = in_a ^ in_b
+    fix = np.where(in_a, a, b)[one]
+    partner = np.where(in_a, b, a)[one]
+    pm = mmsi.loc[partner].to_numpy()
+    real = (mmsi.loc[fix].to_numpy() >= 0) & (pm >= 0)
+    groups = (
+        pd.DataFrame({"track_id": fix[real], "mmsi": pm[real]})
+        .groupby(["track_id", "mmsi"])
+        .size()
+        .rename("n")
+        .reset_index()
+    )
+    oracle = emitter_posterior(scenario, recording, source=source)
+    groups = groups.merge(oracle[["track_id", "mmsi", "q"]], how="left", on=["track_id", "mmsi"])
+    groups["q"] = groups["q"].fillna(0.0)
+    return groups
+
+
+def oracle_borderline(
+    scenario: Any,
+    recording: Any,
+    pairs: pd.DataFrame,
+    tracks: pd.DataFrame,
+    *,
+    source: str = "hfdf",
+    lost: float = 0.01,
+) -> float:
+    """The fewest borderline pairs of ``source``'s tracks that any triage of ``pairs`` can leave
+    while it loses at most ``lost`` of the picture's true pairs to ``non-match`` in expectation
+    (``docs/association.md``, "Calibration and the operator").
+
+    The groups of :func:`oracle_groups` get the whole budget, the other pairs none
+    (:func:`borderline_bound`). 0 when ``source`` has no real track.
+    """
+    groups = oracle_groups(scenario, recording, pairs, tracks, source=source)
+    return borderline_bound(
+        groups["q"].to_numpy(), groups["n"].to_numpy(), lost * len(true_pairs(tracks))
+    )
