@@ -18,12 +18,11 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
 import pandas as pd
 
 import geofeas
 from geofeas.demo import bundled
-from geofeas.demo.evaluate import borderline_bound, oracle_groups, track_table, true_pairs
+from geofeas.demo.evaluate import borderline_bound, labels, oracle_groups, track_table, true_pairs
 from geofeas.demo.scenario import simulate
 from geofeas.io.ais import read_ais
 
@@ -41,7 +40,7 @@ def measure(recording: str, seed: int) -> dict[str, float]:
     df_b = src.loc[b].to_numpy() == "hfdf"
     df = df_a | df_b
     cls = p["class"].to_numpy()
-    y = np.array([((x, z) if x < z else (z, x)) in truth for x, z in zip(a, b, strict=True)])
+    y = labels(p, tracks)
     n_true = len(truth)
     groups = oracle_groups(sc, rec, p, tracks)
     bound = borderline_bound(groups["q"].to_numpy(), groups["n"].to_numpy(), 0.01 * n_true)

@@ -21,6 +21,7 @@ a busy area coloured by associated object); the figures need matplotlib.
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from typing import Any
 
@@ -100,7 +101,7 @@ def main(args: argparse.Namespace) -> int:
         f"{summ['lost']:.2%} of the true pairs lost to non-match"
     )
     print(f"  calibration of p_same: expected calibration error {summ['ece']:.4f}")
-    if summ["oracle_load"] == summ["oracle_load"]:
+    if not math.isnan(summ["oracle_load"]):
         print(
             f"  HF DF, what geometry cannot decide: an oracle knowing every vessel's true path "
             f"leaves at least {result.oracle_borderline:.0f} borderline HF DF pairs "

@@ -37,7 +37,7 @@ from .evaluate import (
     simulate_operator,
     track_table,
 )
-from .scenario import HfDf, Scenario, simulate
+from .scenario import SENSORS, HfDf, Scenario, simulate
 
 __all__ = ["RECORDINGS", "SCORES", "DemoResult", "Progress", "bundled", "plot_map", "run"]
 
@@ -249,11 +249,8 @@ def run(
     if bar:
         bar.step(f"glr / {dflt} (default)")
     table, ece = reliability(default.pairs["p_same"], labels(default.pairs, tracks))
-    df_names = [
-        "hfdf" if spec == "hfdf" else spec.name
-        for spec in sensors
-        if spec == "hfdf" or isinstance(spec, HfDf)
-    ]
+    specs = [SENSORS[s] if isinstance(s, str) else s for s in sensors]
+    df_names = [spec.name for spec in specs if isinstance(spec, HfDf)]
     bound = math.nan
     if len(df_names) == 1:
         bound = oracle_borderline(sc, rec, default.pairs, tracks, source=df_names[0])

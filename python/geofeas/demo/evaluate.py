@@ -24,9 +24,9 @@ __all__ = [
     "borderline_bound",
     "emitter_posterior",
     "evaluate",
+    "labels",
     "oracle_borderline",
     "oracle_groups",
-    "labels",
     "prf",
     "reliability",
     "simulate_operator",
@@ -432,10 +432,10 @@ def emitter_posterior(scenario: Any, recording: Any, *, source: str = "hfdf") ->
     mask = (reports["source"] == source).to_numpy() & (reports["mmsi"].to_numpy() >= 0)
     truth = Truth.from_recording(recording)
     rows: list[dict[str, Any]] = []
-    sub = reports[mask]
+    sub, sub_seconds = reports[mask], seconds[mask]
     for tid, idx in sub.groupby("track_id", sort=True).indices.items():
         g = sub.iloc[idx]
-        t = seconds[mask][idx]
+        t = sub_seconds[idx]
         lat, lon = g["lat"].to_numpy(np.float64), g["lon"].to_numpy(np.float64)
         inv = np.linalg.inv(
             covariance_from_aou(g["rx"].to_numpy(), g["ry"].to_numpy(), g["bearing"].to_numpy())

@@ -259,57 +259,68 @@ pub fn effective_instants(times: &[f64], tau: f64) -> f64 {
     if tau <= 0.0 {
         return times.len() as f64;
     }
-    effective_count(times.iter().copied(), times.len(), tau)
+    effective_count(times, tau)
 }
 
-/// `k^2 / sum_ij rho_ij` over `k` non-decreasing error times `xs`: `rho = 1` between equal times
-/// (one report's error), `exp(-2 |dt| / tau)` otherwise (0 when `tau` is 0), clamped to
+/// `k^2 / sum_ij rho_ij` over `k` non-decreasing error times `xs` ([`rho`]), clamped to
 /// `[1, k]`.
-fn effective_count(mut xs: impl Iterator<Item = f64>, k: usize, tau: f64) -> f64 {
-    let kf = k as f64;
-    let Some(mut prev) = xs.next() else {
+fn effective_count(xs: &[f64], tau: f64) -> f64 {
+    let kf = xs.len() as f64;
+    if xs.is_empty() {
         return kf;
-    };
-    // sum_{i<j} rho_ij by the recursion S_j = rho_{j-1,j} (S_{j-1} + 1)
-    let (mut s, mut total) = (0.0f64, 0.0f64);
-    for x in xs {
-        s = rho(x - prev, tau) * (s + 1.0);
-        total += s;
-        prev = x;
     }
+    let total: f64 = kernel_sums(xs, |_| 1.0, tau).map(|(_, s)| s).sum();
     (kf * kf / (kf + 2.0 * total)).clamp(1.0, kf)
 }
 
-/// The effective number of independent instants of a track pair (`docs/association.md`, "The
-/// joint model"): the error of the difference at instant `t` is the sum of the two tracks'
-/// errors there, each that of the track's report nearest to `t` (an interpolated state carries
-/// the errors of the reports around it, so instants between two sparse reports share them),
-/// correlated over the tracker's correlation time `tau` as in [`effective_instants`]. With
-/// `K_x` the effective count of track `x`'s errors at the instants and `w_x` its share of the
-/// summed covariance traces, the variance of a mean over the instants gives
-/// `k_eff = 1 / (w_a / K_a + w_b / K_b)`, between the two counts and at most `k`.
-///
-/// `times` are the instants (sorted), `reports_a` / `reports_b` the report times of each track
-/// (sorted), `share_a` is `w_a`.
-pub fn pair_effective_instants(
-    times: &[f64],
-    reports_a: &[f64],
-    reports_b: &[f64],
-    share_a: f64,
-    tau: f64,
-) -> f64 {
-    let k = times.len();
-    if k < 2 {
-        return k as f64;
-    }
-    let count = |reports: &[f64]| effective_count(snapped(times, reports).into_iter(), k, tau);
-    let w = if share_a.is_finite() {
-        share_a.clamp(0.0, 1.0)
+/// The correlation of the squared distances at error times `dt >= 0` apart: 1 for one report's
+/// error (`dt = 0`), `exp(-2 dt / tau)` otherwise (0 when `tau` is 0).
+fn rho(dt: f64, tau: f64) -> f64 {
+    if dt == 0.0 {
+        1.0
+    } else if tau > 0.0 {
+        (-2.0 * dt / tau).exp()
     } else {
-        0.5
-    };
-    let (ka, kb) = (count(reports_a), count(reports_b));
-    (1.0 / (w / ka + (1.0 - w) / kb)).clamp(1.0, k as f64)
+        0.0
+    }
+}
+
+/// `(i, S_i)` for `i = 1..`, `S_i = sum_{j<i} w_j rho_ji` over non-decreasing error times `xs`,
+/// by the exponential kernel's recursion `S_i = rho_{i-1,i} (S_{i-1} + w_{i-1})`.
+fn kernel_sums<'a>(
+    xs: &'a [f64],
+    w: impl Fn(usize) -> f64 + 'a,
+    tau: f64,
+) -> impl Iterator<Item = (usize, f64)> + 'a {
+    (1..xs.len()).scan(0.0, move |s, i| {
+        *s = rho(xs[i] - xs[i - 1], tau) * (*s + w(i - 1));
+        Some((i, *s))
+    })
+}
+
+/// `sum_ij w_i w_j rho_ij` over non-decreasing error times `xs`.
+fn weighted_correlation_sum(xs: &[f64], w: &[f64], tau: f64) -> f64 {
+    let mut total: f64 = w.iter().map(|x| x * x).sum();
+    for (i, s) in kernel_sums(xs, |j| w[j], tau) {
+        total += 2.0 * w[i] * s;
+    }
+    total
+}
+
+/// `sum_j rho_ij` for every `i` over non-decreasing error times `xs` (the recursion forwards
+/// and backwards).
+fn correlation_mass(xs: &[f64], tau: f64) -> Vec<f64> {
+    let n = xs.len();
+    let mut mass = vec![1.0; n];
+    for (i, s) in kernel_sums(xs, |_| 1.0, tau) {
+        mass[i] += s;
+    }
+    let mut s = 0.0;
+    for i in (0..n.saturating_sub(1)).rev() {
+        s = rho(xs[i + 1] - xs[i], tau) * (s + 1.0);
+        mass[i] += s;
+    }
+    mass
 }
 
 /// Each instant's nearest report time in `reports` (sorted; ties to the earlier), for sorted
@@ -338,73 +349,61 @@ fn snapped(times: &[f64], reports: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// The correlation of the squared distances at two error times `dt >= 0` apart.
-fn rho(dt: f64, tau: f64) -> f64 {
-    if dt == 0.0 {
-        1.0
-    } else if tau > 0.0 {
-        (-2.0 * dt / tau).exp()
-    } else {
-        0.0
-    }
+/// What the instants of a track pair are worth (`docs/association.md`, "Combination and
+/// calibration" and "The joint model").
+#[derive(Debug, Clone, PartialEq)]
+pub struct PairInstantCounts {
+    /// Independent instants of the plain sum over the instants (the `score` column's).
+    pub k_eff: f64,
+    /// Each instant's weight in the evidence's means.
+    pub weights: Vec<f64>,
+    /// Independent instants of the evidence's weighted means.
+    pub evidence_k_eff: f64,
 }
 
-/// `sum_j rho_ij` for every `i` over non-decreasing error times `xs` (two passes of the
-/// exponential kernel's recursion).
-fn correlation_mass(xs: &[f64], tau: f64) -> Vec<f64> {
-    let n = xs.len();
-    let mut mass = vec![1.0; n];
-    let mut s = 0.0;
-    for i in 1..n {
-        s = rho(xs[i] - xs[i - 1], tau) * (s + 1.0);
-        mass[i] += s;
-    }
-    s = 0.0;
-    for i in (0..n.saturating_sub(1)).rev() {
-        s = rho(xs[i + 1] - xs[i], tau) * (s + 1.0);
-        mass[i] += s;
-    }
-    mass
-}
-
-/// `sum_ij w_i w_j rho_ij` over non-decreasing error times `xs`.
-fn weighted_correlation_sum(xs: &[f64], w: &[f64], tau: f64) -> f64 {
-    let mut total: f64 = w.iter().map(|x| x * x).sum();
-    let mut s = 0.0;
-    for i in 1..xs.len() {
-        s = rho(xs[i] - xs[i - 1], tau) * (s + w[i - 1]);
-        total += 2.0 * w[i] * s;
-    }
-    total
-}
-
-/// The weights of a pair's instants in its evidence, and the independent instants they are
-/// worth (`docs/association.md`, "The joint model").
+/// The counts of a track pair's instants.
 ///
-/// An instant carries the errors of each track's nearest report, correlated as in
-/// [`pair_effective_instants`]: `rho_ij = w_a rho^a_ij + w_b rho^b_ij`. Instant `i` weighs
-/// `1 / sum_j rho_ij`, so that a group of instants carrying one report's error counts once
-/// however many instants fall in it: the instants between two HF DF fixes 200 s apart, at every
-/// radar scan, weigh together as much as one isolated fix does. The weighted mean's variance
-/// gives the count `k_eff = (sum w)^2 / sum_ij w_i w_j rho_ij`, clamped to `[1, k]`: the number
-/// of groups for groups of fully correlated instants, `k` for independent ones.
-pub fn pair_instant_weights(
+/// The error of the difference at instant `t` is the sum of the two tracks' errors there, each
+/// that of the track's report nearest to `t` (an interpolated state carries the errors of the
+/// reports around it, so instants between two sparse reports share them), correlated over the
+/// tracker's correlation time `tau` ([`rho`]). With `w_x` track `x`'s share of the summed
+/// covariance traces, instants `i`, `j` correlate as `rho_ij = w_a rho^a_ij + w_b rho^b_ij`.
+///
+/// - `k_eff = 1 / (w_a / K_a + w_b / K_b)`, `K_x = k^2 / sum_ij rho^x_ij` the effective count of
+///   track `x`'s errors at the instants: what the plain mean over the instants is worth,
+///   between the two counts and at most `k`.
+/// - Instant `i` weighs `1 / sum_j rho_ij` in the evidence, so that a group of instants
+///   carrying one report's error counts once however many instants fall in it: the instants
+///   between two HF DF fixes 200 s apart, at every radar scan, weigh together as much as one
+///   isolated fix does. The weighted mean's variance gives
+///   `evidence_k_eff = (sum w)^2 / sum_ij w_i w_j rho_ij`, clamped to `[1, k]`: the number of
+///   groups for groups of fully correlated instants, `k` for independent ones.
+///
+/// `times` are the instants (sorted), `reports_a` / `reports_b` the report times of each track
+/// (sorted), `share_a` is `w_a`.
+pub fn pair_instant_counts(
     times: &[f64],
     reports_a: &[f64],
     reports_b: &[f64],
     share_a: f64,
     tau: f64,
-) -> (Vec<f64>, f64) {
+) -> PairInstantCounts {
     let k = times.len();
     if k < 2 {
-        return (vec![1.0; k], k as f64);
+        return PairInstantCounts {
+            k_eff: k as f64,
+            weights: vec![1.0; k],
+            evidence_k_eff: k as f64,
+        };
     }
     let w = if share_a.is_finite() {
         share_a.clamp(0.0, 1.0)
     } else {
         0.5
     };
+    let kf = k as f64;
     let (xa, xb) = (snapped(times, reports_a), snapped(times, reports_b));
+    let (ka, kb) = (effective_count(&xa, tau), effective_count(&xb, tau));
     let (ma, mb) = (correlation_mass(&xa, tau), correlation_mass(&xb, tau));
     let weights: Vec<f64> = ma
         .iter()
@@ -414,7 +413,11 @@ pub fn pair_instant_weights(
     let sum: f64 = weights.iter().sum();
     let var = w * weighted_correlation_sum(&xa, &weights, tau)
         + (1.0 - w) * weighted_correlation_sum(&xb, &weights, tau);
-    (weights, (sum * sum / var).clamp(1.0, k as f64))
+    PairInstantCounts {
+        k_eff: (1.0 / (w / ka + (1.0 - w) / kb)).clamp(1.0, kf),
+        evidence_k_eff: (sum * sum / var).clamp(1.0, kf),
+        weights,
+    }
 }
 
 #[cfg(test)]
@@ -428,19 +431,19 @@ mod tests {
         let sparse = [0.0, 100.0];
         // tau = 0: k^2 / sum of squared group sizes, 51 instants nearer 0, 50 nearer 100
         let k_a = 101.0 * 101.0 / (51.0 * 51.0 + 50.0 * 50.0);
-        let got = pair_effective_instants(&times, &sparse, &times, 1.0, 0.0);
+        let got = pair_instant_counts(&times, &sparse, &times, 1.0, 0.0).k_eff;
         assert!((got - k_a).abs() < 1e-12, "{got}");
         // the dense track's own errors are independent at every instant
-        let got = pair_effective_instants(&times, &sparse, &times, 0.0, 0.0);
+        let got = pair_instant_counts(&times, &sparse, &times, 0.0, 0.0).k_eff;
         assert!((got - 101.0).abs() < 1e-12, "{got}");
         // shares weigh the two counts harmonically
-        let got = pair_effective_instants(&times, &sparse, &times, 0.5, 0.0);
+        let got = pair_instant_counts(&times, &sparse, &times, 0.5, 0.0).k_eff;
         assert!(
             (got - 1.0 / (0.5 / k_a + 0.5 / 101.0)).abs() < 1e-12,
             "{got}"
         );
         // both tracks reporting at every instant: the single-track rule
-        let got = pair_effective_instants(&times, &times, &times, 0.3, 20.0);
+        let got = pair_instant_counts(&times, &times, &times, 0.3, 20.0).k_eff;
         assert!(
             (got - effective_instants(&times, 20.0)).abs() < 1e-9,
             "{got}"
@@ -455,7 +458,8 @@ mod tests {
         let mut times: Vec<f64> = (0..=10).map(f64::from).collect();
         times.extend([1000.0, 2000.0]);
         let vague = [0.0, 10.0, 1000.0, 2000.0];
-        let (w, k_eff) = pair_instant_weights(&times, &vague, &times, 1.0, 0.0);
+        let c = pair_instant_counts(&times, &vague, &times, 1.0, 0.0);
+        let (w, k_eff) = (c.weights, c.evidence_k_eff);
         // instants 0..=5 are nearest the fix at 0 (the tie at 5 to the earlier), 6..=10 the fix at 10
         for (i, x) in w.iter().enumerate() {
             let want = match i {
@@ -467,12 +471,13 @@ mod tests {
         }
         assert!((k_eff - 4.0).abs() < 1e-12, "{k_eff}");
         // the dense partner's errors are independent at every instant
-        let (w, k_eff) = pair_instant_weights(&times, &vague, &times, 0.0, 0.0);
+        let c = pair_instant_counts(&times, &vague, &times, 0.0, 0.0);
+        let (w, k_eff) = (c.weights, c.evidence_k_eff);
         assert!(w.iter().all(|&x| x == 1.0));
         assert_eq!(k_eff, 13.0);
     }
 
-    /// The weights and the count against a brute-force sum over all pairs of instants.
+    /// The weights and both counts against brute-force sums over all pairs of instants.
     #[test]
     fn instant_weights_match_brute_force() {
         use rand::{RngExt, SeedableRng};
@@ -494,7 +499,8 @@ mod tests {
             let (ra, rb) = (reports(1 + case % 7), reports(1 + 3 * case));
             let share: f64 = rng.random_range(0.0..1.0);
             let tau = [0.0, 30.0, 300.0][case % 3];
-            let (w, k_eff) = pair_instant_weights(&times, &ra, &rb, share, tau);
+            let c = pair_instant_counts(&times, &ra, &rb, share, tau);
+            let (w, k_eff) = (c.weights, c.evidence_k_eff);
             let (xa, xb) = (snapped(&times, &ra), snapped(&times, &rb));
             let r = |x: &[f64], i: usize, j: usize| rho((x[i] - x[j]).abs(), tau);
             let corr = |i: usize, j: usize| share * r(&xa, i, j) + (1.0 - share) * r(&xb, i, j);
@@ -506,6 +512,21 @@ mod tests {
                     var += w[i] * w[j] * corr(i, j);
                 }
             }
+            // the plain mean's count: the two tracks' counts, weighed harmonically
+            let count = |x: &[f64]| {
+                let total: f64 = (0..k)
+                    .flat_map(|i| (0..k).map(move |j| (i, j)))
+                    .map(|(i, j)| r(x, i, j))
+                    .sum();
+                (k * k) as f64 / total
+            };
+            let plain =
+                (1.0 / (share / count(&xa) + (1.0 - share) / count(&xb))).clamp(1.0, k as f64);
+            assert!(
+                (c.k_eff - plain).abs() < 1e-9 * plain,
+                "case {case}: {} {plain}",
+                c.k_eff
+            );
             let sum: f64 = w.iter().sum();
             let want = (sum * sum / var).clamp(1.0, k as f64);
             assert!(

@@ -13,7 +13,7 @@
 //! with `Q = 2 q tau I` the spread of straight-line motion over one correlation time (`q` the
 //! process noise, `tau` the correlation time). With means over the instants that count every
 //! report's error once, worth `k_eff` independent instants
-//! ([`crate::association::combine::pair_instant_weights`]),
+//! ([`crate::association::combine::pair_instant_counts`]),
 //!
 //! `L = (mean l - ln mu) + (k_eff - 1) (mean l - mean h) + ln kappa + ln(1 - F_a) + ln(1 - F_b)`
 //!

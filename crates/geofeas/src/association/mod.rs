@@ -313,10 +313,10 @@ pub struct PairStat {
     pub instants: u32,
     /// Sum of the per-instant squared distances.
     pub sum_m: f64,
-    /// Effective number of instants (see [`combine::pair_effective_instants`]).
+    /// Effective number of instants of the plain sum (see [`combine::pair_instant_counts`]).
     pub k_eff: f64,
     /// The evidence's means over the instants, each instant weighed by
-    /// [`combine::pair_instant_weights`]: of the Gaussian squared distances `d^T S^-1 d` (the
+    /// [`combine::pair_instant_counts`]: of the Gaussian squared distances `d^T S^-1 d` (the
     /// plain GLR's `m`),
     pub mean_mg: f64,
     /// of `ln det S`,
@@ -350,13 +350,14 @@ impl PairStat {
 /// Aligns, scores and combines tracks `a`, `b`.
 pub fn pair_stat(r: &Reports, a: usize, b: usize, o: &Options) -> PairStat {
     let p = pair_instants(r, a, b, o);
-    let k_eff = combine::pair_effective_instants(
+    let counts = combine::pair_instant_counts(
         &p.time,
         r.times(a),
         r.times(b),
         p.share_a,
         o.correlation_time,
     );
+    let k_eff = counts.k_eff;
     let sum_m: f64 = p.m.iter().sum();
     let k = p.g.len();
     let score = if k == 0 {
@@ -367,13 +368,7 @@ pub fn pair_stat(r: &Reports, a: usize, b: usize, o: &Options) -> PairStat {
     } else {
         o.combine.combine(&p.g, &p.m, &p.time, o.correlation_time)
     };
-    let (weights, evidence_k_eff) = combine::pair_instant_weights(
-        &p.time,
-        r.times(a),
-        r.times(b),
-        p.share_a,
-        o.correlation_time,
-    );
+    let weights = &counts.weights;
     let total: f64 = weights.iter().sum();
     let mean = |f: usize| -> f64 {
         if k == 0 {
@@ -381,7 +376,7 @@ pub fn pair_stat(r: &Reports, a: usize, b: usize, o: &Options) -> PairStat {
         } else {
             p.gauss
                 .iter()
-                .zip(&weights)
+                .zip(weights)
                 .map(|(x, w)| w * x[f])
                 .sum::<f64>()
                 / total
@@ -396,7 +391,7 @@ pub fn pair_stat(r: &Reports, a: usize, b: usize, o: &Options) -> PairStat {
         mean_ln_det: mean(1),
         mean_trace_over_det: mean(2),
         mean_inv_det: mean(3),
-        evidence_k_eff,
+        evidence_k_eff: counts.evidence_k_eff,
         pos: p.pos,
     }
 }

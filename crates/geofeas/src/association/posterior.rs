@@ -286,8 +286,6 @@ impl Component {
         })
     }
 
-    /// Log-weight of an object holding the tracks `members` (assumed feasible); `-inf` if the
-    /// candidate pairs do not connect them.
     /// `(L, k_y)` of the pair through which `x` joins the tree of `attached` members: among
     /// the members at least [`ANCHOR_PRECISION`] times more precise than `x` that have a pair
     /// with it, the one whose pair has the most independent instants (the first, the most
@@ -311,6 +309,8 @@ impl Component {
         best.or(first)
     }
 
+    /// Log-weight of an object holding the tracks `members` (assumed feasible); `-inf` if the
+    /// candidate pairs do not connect them.
     fn cell_weight(&self, members: &[u32], scratch: &mut Vec<u32>) -> f64 {
         if members.len() < 2 {
             return 0.0;
