@@ -37,7 +37,11 @@
 //!   one of its own included; the reverse of the last, a swap with an object made only of
 //!   blocks it conflicts with that is joined to its own object, is proposed too. The acceptance
 //!   ratio is the ratio of the two neighbourhoods' total weights, which makes the chain
-//!   reversible with respect to the posterior. [`Inference::chains`] independent chains from
+//!   reversible with respect to the posterior. Each sweep also redraws, for every block, its
+//!   object and the object of a neighbour block or of a neighbour's neighbour (one object or
+//!   two, every feasible split of their blocks weighed: an exact Gibbs update of the two,
+//!   `Chain::redraw_pair`), so that two ships can exchange the tracks of an aircraft that
+//!   passed between them in one step. [`Inference::chains`] independent chains from
 //!   the grouping that takes the strongest pairs first; each chain's marginals are
 //!   Rao-Blackwellised (`Conditionals`); the standard error of each marginal is the spread of
 //!   the chain means over `sqrt(chains)`, reported per component.
@@ -702,6 +706,10 @@ const TEMPERATURES: [f64; 4] = [1.0, 0.5, 0.25, 0.12];
 /// The most blocks a swap move displaces.
 const MAX_SWAP: usize = 3;
 
+/// The most blocks two objects may hold between them for [`Chain::redraw_pair`] (it weighs
+/// `2^(n - 2) + 1` groupings of `n` blocks).
+const PAIR_BLOCKS: usize = 12;
+
 /// A move of one block.
 #[derive(Clone, Copy, Debug)]
 enum Move {
@@ -895,6 +903,116 @@ impl<'a> Chain<'a> {
         self.refresh(old);
         if self.cell_blocks[old as usize].is_empty() {
             self.free.push(old);
+        }
+    }
+
+    /// A Gibbs update of two objects: the objects of block `b1` and of its neighbour block
+    /// `b2` (one object if they share it) are redrawn, the rest of the partition held, from
+    /// every feasible way of holding their blocks in one object or in two, one with `b1` and
+    /// one with `b2`, in proportion to the posterior (raised to `beta`). The set of blocks and
+    /// the pair `(b1, b2)` are the same from every state the update can reach, so it samples
+    /// the posterior restricted to that set exactly: two ships exchange the tracks of an
+    /// aircraft that passed between them, which block moves can only do through a state in
+    /// which each holds the other's radar track. Objects of more than [`PAIR_BLOCKS`] blocks
+    /// between them are left alone.
+    fn redraw_pair(&mut self, b1: u32, b2: u32, rng: &mut Xoshiro256PlusPlus) {
+        let comp = self.comp;
+        let (c1, c2) = (self.label[b1 as usize], self.label[b2 as usize]);
+        let n = self.cell_blocks[c1 as usize].len()
+            + if c1 == c2 {
+                0
+            } else {
+                self.cell_blocks[c2 as usize].len()
+            };
+        if n > PAIR_BLOCKS {
+            return;
+        }
+        // b1 first, b2 second, then the others: bit k of a split puts set[k + 2] with b2
+        let mut set = vec![b1, b2];
+        for &c in if c1 == c2 { vec![c1] } else { vec![c1, c2] }.iter() {
+            set.extend(
+                self.cell_blocks[c as usize]
+                    .iter()
+                    .copied()
+                    .filter(|&k| k != b1 && k != b2),
+            );
+        }
+        let mut clash = vec![0u32; n];
+        for i in 0..n {
+            for j in i + 1..n {
+                let (x, y) = (&comp.blocks[set[i] as usize], &comp.blocks[set[j] as usize]);
+                if !comp.compatible(x, y) {
+                    clash[i] |= 1 << j;
+                    clash[j] |= 1 << i;
+                }
+            }
+        }
+        let feasible = |bits: u32| (0..n).all(|i| bits >> i & 1 == 0 || clash[i] & bits == 0);
+        let mut tracks = Vec::new();
+        let mut weight = |ch: &mut Self, bits: u32| -> f64 {
+            tracks.clear();
+            for (i, &k) in set.iter().enumerate() {
+                if bits >> i & 1 == 1 {
+                    tracks.extend_from_slice(&comp.blocks[k as usize]);
+                }
+            }
+            ch.weight_of(&tracks)
+        };
+        let all = (1u32 << n) - 1;
+        // the options: the bits of b2's object (0: one object of all), and their log-weight
+        let mut options: Vec<(u32, f64)> = Vec::with_capacity((1 << (n - 2)) + 1);
+        if feasible(all) {
+            let w = weight(self, all);
+            if w > f64::NEG_INFINITY {
+                options.push((0, w));
+            }
+        }
+        for split in 0..1u32 << (n - 2) {
+            let with_b2 = 2 | split << 2;
+            let with_b1 = all & !with_b2;
+            if !feasible(with_b1) || !feasible(with_b2) {
+                continue;
+            }
+            let w1 = weight(self, with_b1);
+            if w1 == f64::NEG_INFINITY {
+                continue;
+            }
+            let w2 = weight(self, with_b2);
+            if w2 > f64::NEG_INFINITY {
+                options.push((with_b2, w1 + w2));
+            }
+        }
+        let beta = self.beta;
+        let z = log_sum_exp(options.iter().map(|o| beta * o.1));
+        let u = unit(rng);
+        let mut acc = 0.0;
+        let mut pick = options.len() - 1;
+        for (i, o) in options.iter().enumerate() {
+            acc += (beta * o.1 - z).exp();
+            if u < acc {
+                pick = i;
+                break;
+            }
+        }
+        let with_b2 = options[pick].0;
+        // b1's blocks stay in (or go to) c1; b2's go to c2, or to a free cell if c1 == c2
+        let to = if with_b2 == 0 {
+            c1
+        } else if c1 == c2 {
+            self.free.pop().expect("a free cell: one per block")
+        } else {
+            c2
+        };
+        for (i, &k) in set.iter().enumerate() {
+            self.set(k, if with_b2 >> i & 1 == 1 { to } else { c1 });
+        }
+        self.refresh(c1);
+        if to != c1 {
+            self.refresh(to);
+        }
+        if c2 != c1 && c2 != to {
+            self.refresh(c2);
+            self.free.push(c2);
         }
     }
 
@@ -1123,6 +1241,20 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
     let nb = comp.blocks.len();
     let burn = inf.sweeps / 4;
     let first = comp.tracks[0] as u64;
+    // the blocks each block has a candidate pair with (the partners of its two-object updates)
+    let block_adj: Vec<Vec<u32>> = (0..nb)
+        .map(|b| {
+            let mut near: Vec<u32> = comp.blocks[b]
+                .iter()
+                .flat_map(|&x| comp.adj[x as usize].iter())
+                .map(|e| comp.block_of[e.0 as usize])
+                .filter(|&k| k != b as u32)
+                .collect();
+            near.sort_unstable();
+            near.dedup();
+            near
+        })
+        .collect();
     let per_chain: Vec<(Vec<Vec<u32>>, Conditionals)> = (0..inf.chains)
         .into_par_iter()
         .map(|c| {
@@ -1146,6 +1278,18 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
                     let estimate = i == 0 && sweep >= burn;
                     for b in 0..nb as u32 {
                         ch.step(b, &mut rng, estimate.then_some(&mut acc));
+                    }
+                    // each block with a neighbour, or with a neighbour's neighbour: the
+                    // AIS tracks of two ships an aircraft track fits both of (a choice that
+                    // does not depend on the state, so each update keeps the posterior)
+                    for (b, near) in block_adj.iter().enumerate() {
+                        if let Some(&y) = pick(near, &mut rng) {
+                            let z = match pick(&block_adj[y as usize], &mut rng) {
+                                Some(&z) if z != b as u32 && unit(&mut rng) < 0.5 => z,
+                                _ => y,
+                            };
+                            ch.redraw_pair(b as u32, z, &mut rng);
+                        }
                     }
                 }
                 for i in 0..ladder.len() - 1 {
@@ -1192,6 +1336,12 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
         weights: vec![w; samples.len()],
         samples,
     }
+}
+
+/// A uniformly drawn element of `xs`.
+fn pick<'a, T>(xs: &'a [T], rng: &mut Xoshiro256PlusPlus) -> Option<&'a T> {
+    let k = (unit(rng) * xs.len() as f64) as usize;
+    xs.get(k.min(xs.len().saturating_sub(1)))
 }
 
 /// Most pairs a review value looks at beyond those sharing a track with the pair.
@@ -1646,6 +1796,55 @@ mod tests {
         let sampled = sampled(&tracks, &pairs, &llr, 400, 5);
         assert!(sampled.p_same[0] > 1.0 - 1e-9, "{}", sampled.p_same[0]);
         for k in 1..5 {
+            assert!(
+                (sampled.p_same[k] - 0.5).abs() < 0.1,
+                "pair {k}: {} +- {}",
+                sampled.p_same[k],
+                sampled.std_error[k]
+            );
+        }
+    }
+
+    #[test]
+    fn two_ships_exchange_an_aircraft_s_tracks_in_one_update() {
+        // two ships, each seen by AIS (source 0) and radar (source 2) bound together, and two
+        // passes of one aircraft (source 1, at different times) that fit both ships equally
+        // and are bound to each other (a second track of the aircraft in an object weighs
+        // e^200): the passes go with one ship or the other, 1/2 each. Single-block moves
+        // cross from one to the other only through a state with a pass on each ship (e^-200
+        // below; e^-24 in the hottest copy); the two-object update of the ships' AIS tracks
+        // (neighbours through a pass) redraws both objects at once.
+        let mut pass = [tr(1, 0.0, 10.0, 1.0), tr(1, 20.0, 30.0, 1.0)];
+        for t in &mut pass {
+            t.further = 200.0;
+        }
+        let tracks = [
+            tr(0, 0.0, 30.0, 0.1),
+            tr(2, 0.0, 30.0, 0.5),
+            tr(0, 0.0, 30.0, 0.1),
+            tr(2, 0.0, 30.0, 0.5),
+            pass[0],
+            pass[1],
+        ];
+        let pairs = [
+            (0, 1),
+            (2, 3),
+            (0, 4),
+            (1, 4),
+            (2, 4),
+            (3, 4),
+            (0, 5),
+            (1, 5),
+            (2, 5),
+            (3, 5),
+        ];
+        let llr = [
+            200.0, 200.0, 100.0, 100.0, 100.0, 100.0, 100.0, 100.0, 100.0, 100.0,
+        ];
+        let exact = exact(&tracks, &pairs, &llr, &[]);
+        let sampled = sampled(&tracks, &pairs, &llr, 400, 3);
+        for k in 2..pairs.len() {
+            assert!((exact.p_same[k] - 0.5).abs() < 1e-9, "{}", exact.p_same[k]);
             assert!(
                 (sampled.p_same[k] - 0.5).abs() < 0.1,
                 "pair {k}: {} +- {}",
