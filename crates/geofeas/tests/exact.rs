@@ -399,6 +399,41 @@ proptest! {
     }
 }
 
+#[test]
+fn a_shallow_double_crossing_of_thin_ellipses() {
+    // two thin ellipses crossing twice at shallow angles on each side (found by
+    // agrees_with_fine_polygons): parry's convex clipper, with its default collinearity
+    // tolerance, took nearly parallel edges for collinear and returned 0.0346044 from 2048
+    // vertices up; the reference is shapely's intersection of the two ellipses as 2^20-gons
+    // (inscribed, error below 1e-11 here): 0.03459587786.
+    let a = Ellipse::new(
+        0.002305327956436168,
+        0.806851680776558,
+        18.214273333607473,
+        0.537434128654636,
+        0.9498050425048229,
+    );
+    let b = Ellipse::new(
+        0.062832626199052,
+        0.13866236058568937,
+        19.89163106171079,
+        0.36202000749872304,
+        -0.7352184117064895,
+    );
+    let reference = 0.034_595_877_86;
+    let exact = overlap_exact(&a, &b);
+    assert!((exact - reference).abs() < 1e-10, "{exact}");
+    let ratio = (a.rx * a.ry) / (b.rx * b.ry);
+    for n in [256, 2048, 16384] {
+        let poly = Polygon::new(n);
+        let g = poly.score_one(&a, &b);
+        assert!(
+            (g - exact).abs() <= poly.error_bound(ratio) + 1e-12,
+            "{n} vertices: {g} vs {exact}"
+        );
+    }
+}
+
 /// The long fuzz: 4 million pairs (random, nearly identical, tangent-ish) checked for range,
 /// NaN and argument order. `cargo test --release --test exact -- --ignored`.
 #[test]

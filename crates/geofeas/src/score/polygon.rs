@@ -34,7 +34,9 @@
 use std::cell::RefCell;
 
 use parry2d_f64::math::Vector;
-use parry2d_f64::transformation::convex_polygons_intersection_points;
+use parry2d_f64::transformation::{
+    convex_polygons_intersection_points_with_tolerances, PolygonIntersectionTolerances,
+};
 
 use super::PairScore;
 use crate::ellipse::Ellipse;
@@ -269,7 +271,18 @@ impl PairScore for Polygon {
                 clip_convex(pa, pb, out, tmp);
                 shoelace(out)
             } else {
-                convex_polygons_intersection_points(pa, pb, out);
+                // no collinearity tolerance: where two thin ellipses cross at a shallow
+                // angle, their polygons' edges are nearly parallel over many vertices, and
+                // the default (100 ulp) took them for collinear and walked the wrong chain
+                // (`a_shallow_double_crossing_of_thin_ellipses`: 2.5e-4 off)
+                convex_polygons_intersection_points_with_tolerances(
+                    pa,
+                    pb,
+                    PolygonIntersectionTolerances {
+                        collinearity_epsilon: 0.0,
+                    },
+                    out,
+                );
                 shoelace(out)
             };
             let small_area = std::f64::consts::PI * small.rx * inv * small.ry * inv;
