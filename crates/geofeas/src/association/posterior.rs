@@ -41,8 +41,10 @@
 //!   object and the object of a neighbour block or of a neighbour's neighbour (one object or
 //!   two, every feasible split of their blocks weighed: an exact Gibbs update of the two,
 //!   `Chain::redraw_pair`), so that two ships can exchange the tracks of an aircraft that
-//!   passed between them in one step. [`Inference::chains`] independent chains from
-//!   the grouping that takes the strongest pairs first; each chain's marginals are
+//!   passed between them in one step. [`Inference::chains`] independent chains, the first
+//!   from the grouping that takes the strongest pairs first, the others from groupings drawn
+//!   from the pairs' own odds (`random_start`), so that chains stuck in different modes show
+//!   it in the standard error; each chain's marginals are
 //!   Rao-Blackwellised (`Conditionals`); the standard error of each marginal is the spread of
 //!   the chain means over `sqrt(chains)`, reported per component.
 //!
@@ -1165,9 +1167,8 @@ impl Conditionals {
     }
 }
 
-/// The feasible grouping that takes the strongest pairs first: the sampler's start.
+/// The feasible grouping that takes the strongest pairs first: the first chain's start.
 fn greedy_start(comp: &Component) -> Vec<u32> {
-    let nb = comp.blocks.len();
     let mut edges: Vec<(f64, u32, u32)> = comp
         .pairs
         .iter()
@@ -1175,9 +1176,35 @@ fn greedy_start(comp: &Component) -> Vec<u32> {
         .filter(|e| e.0 > 0.0)
         .collect();
     edges.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+    join_in_order(comp, edges.into_iter().map(|e| (e.1, e.2)))
+}
+
+/// A start drawn from the pairs' own odds, the other chains' starts: each pair is kept with
+/// probability `1 / (1 + e^-L)`, as if it were alone, and the kept pairs are joined in random
+/// order where feasible. Chains that start apart and still agree have forgotten their start;
+/// chains that do not, show it in the standard error.
+fn random_start(comp: &Component, rng: &mut Xoshiro256PlusPlus) -> Vec<u32> {
+    let mut edges: Vec<(u32, u32)> = Vec::new();
+    for &(_, a, b) in &comp.pairs {
+        if let Some(l) = comp.edge(a, b) {
+            if unit(rng) * (1.0 + (-l).exp()) < 1.0 {
+                edges.push((a, b));
+            }
+        }
+    }
+    for i in (1..edges.len()).rev() {
+        let j = ((unit(rng) * (i + 1) as f64) as usize).min(i);
+        edges.swap(i, j);
+    }
+    join_in_order(comp, edges.into_iter())
+}
+
+/// The grouping that joins the objects of the pairs `edges`, in order, where feasible.
+fn join_in_order(comp: &Component, edges: impl Iterator<Item = (u32, u32)>) -> Vec<u32> {
+    let nb = comp.blocks.len();
     let mut label: Vec<u32> = (0..nb as u32).collect();
     let mut cell: Vec<Vec<u32>> = (0..nb).map(|b| comp.blocks[b].clone()).collect();
-    for (_, a, b) in edges {
+    for (a, b) in edges {
         let (ca, cb) = (
             label[comp.block_of[a as usize] as usize],
             label[comp.block_of[b as usize] as usize],
@@ -1237,7 +1264,7 @@ fn infer(comp: &Component, inf: &Inference) -> Marginals {
 }
 
 fn sample(comp: &Component, inf: &Inference) -> Marginals {
-    let start = greedy_start(comp);
+    let greedy = greedy_start(comp);
     let nb = comp.blocks.len();
     let burn = inf.sweeps / 4;
     let first = comp.tracks[0] as u64;
@@ -1261,12 +1288,15 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
             let mut rng = Xoshiro256PlusPlus::seed_from_u64(crate::rng::mix64(
                 inf.seed ^ crate::rng::mix64(first.wrapping_mul(0x1_0000) ^ c as u64),
             ));
+            // the first chain from the strongest pairs, the others from the pairs' own odds
+            let own = (c > 0).then(|| random_start(comp, &mut rng));
+            let start = own.as_deref().unwrap_or(&greedy);
             // parallel tempering: the chain at beta = 1 is the sample; hotter copies cross
             // the barriers that single-block moves cannot, and swap states with it
             let mut ladder: Vec<Chain> = TEMPERATURES
                 .iter()
                 .map(|&beta| {
-                    let mut ch = Chain::new(comp, &start);
+                    let mut ch = Chain::new(comp, start);
                     ch.beta = beta;
                     ch
                 })
@@ -1850,6 +1880,63 @@ mod tests {
                 "pair {k}: {} +- {}",
                 sampled.p_same[k],
                 sampled.std_error[k]
+            );
+        }
+    }
+
+    #[test]
+    fn chains_that_start_apart_report_the_modes_they_cannot_join() {
+        // as above, but each ship also holds six tracks of six more sources: the two objects
+        // hold 16 blocks between them, beyond the two-object update, so no move of the
+        // sampler takes the passes from one ship to the other. By symmetry each pass is each
+        // ship's with probability 1/2. Chains that all start where the strongest pairs put
+        // the passes agree on one ship with a standard error of 0; chains that start from
+        // the pairs' own odds (the passes on either ship, or one on each, from which they
+        // fall to either) disagree, and the standard error says so.
+        let mut tracks = Vec::new();
+        let mut pairs = Vec::new();
+        let mut llr = Vec::new();
+        for _ in 0..2 {
+            let root = tracks.len() as u32;
+            tracks.push(tr(0, 0.0, 30.0, 0.1));
+            for source in 2..8 {
+                pairs.push((root, tracks.len() as u32));
+                llr.push(200.0);
+                tracks.push(tr(source, 0.0, 30.0, 0.5));
+            }
+        }
+        for (start, end) in [(0.0, 10.0), (20.0, 30.0)] {
+            let mut pass = tr(1, start, end, 2.0);
+            pass.further = 200.0;
+            for root in [0, 7] {
+                pairs.push((root, tracks.len() as u32));
+                llr.push(100.0);
+            }
+            tracks.push(pass);
+        }
+        let inf = Inference {
+            exact_limit: 0,
+            chains: 16,
+            sweeps: 100,
+            seed: 1,
+        };
+        let p = posterior(
+            &tracks,
+            &whole(&tracks),
+            &pairs,
+            &own(&llr),
+            &[],
+            &inf,
+            (0.01, 0.99),
+        )
+        .unwrap();
+        // the pairs of the passes with the ships' AIS tracks
+        for k in pairs.len() - 4..pairs.len() {
+            assert!(
+                p.std_error[k] > 0.05 && (p.p_same[k] - 0.5).abs() <= 4.0 * p.std_error[k],
+                "pair {k}: {} +- {}",
+                p.p_same[k],
+                p.std_error[k]
             );
         }
     }
