@@ -755,9 +755,41 @@ def test_decisions_files_are_read_and_contradictions_refused(tmp_path, rng):
         "s007,x,different,bo,2026-01-01T10:02:00Z\n"
     )
     before = path.read_bytes()
-    with pytest.raises(geofeas.GeofeasError, match=r"row 2: .* rows 0, 1"):
+    # named as written: the file's lines with their tracks, the chain "same" then the "different"
+    with pytest.raises(geofeas.GeofeasError) as err:
         geofeas.associate(frame, decisions=path)
+    assert str(err.value) == (
+        f"{path}: line 2 (s007 same s7), line 3 (s7 same x), line 4 (s007 different x): "
+        "the last declares two tracks different that the others make one object"
+    )
+    assert err.value.rows == [0, 1, 2]
     assert path.read_bytes() == before  # never written
+    # a DataFrame's rows; only the decisions that make the contradiction are named
+    table = pd.DataFrame(
+        {
+            "track_a": ["s007", "s7", "s007", "s7"],
+            "track_b": ["x", "s007", "s7", "x"],
+            "decision": ["same", "different", "same", "same"],
+        }
+    )
+    with pytest.raises(geofeas.GeofeasError) as err:
+        geofeas.associate(frame, decisions=table)
+    assert str(err.value) == (
+        "decisions: row 2 (s007 same s7), row 1 (s7 different s007): "
+        "the last declares two tracks different that the others make one object"
+    )
+    # two tracks of one source at overlapping times made one object through two others
+    twin = straight_track(rng, "s008", "ais", (0, 0), (5, 0), 10, 5)
+    table = pd.DataFrame(
+        {"track_a": ["s007", "s7", "x"], "track_b": ["x", "s008", "s7"], "decision": "same"}
+    )
+    with pytest.raises(geofeas.GeofeasError) as err:
+        geofeas.associate(pd.concat([frame, twin]), decisions=table)
+    assert sorted(err.value.rows) == [0, 1, 2]
+    for named in ("row 0 (s007 same x)", "row 1 (s7 same s008)", "row 2 (x same s7)"):
+        assert named in str(err.value)
+    assert str(err.value).endswith("one source at overlapping times")
+
     path.write_text("track_a,track_b,decision\ns007,s7,maybe\n")
     with pytest.raises(geofeas.GeofeasError, match=r"line 2: column decision"):
         geofeas.associate(frame, decisions=path)

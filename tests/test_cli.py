@@ -175,7 +175,7 @@ def test_associate_decisions_flag_reads_and_never_writes(tmp_path, capsys):
     bad_out = tmp_path / "never.csv"
     assert main(["associate", str(src), "--out", str(bad_out), "--decisions", str(decisions)]) == 2
     err = capsys.readouterr().err
-    assert "decision" in err and not bad_out.exists()
+    assert f"line 4 ({first.track_a} different {other})" in err and not bad_out.exists()
 
 
 def test_associate_model_flags_are_the_api_options(tmp_path, capsys):

@@ -103,6 +103,9 @@ class GeofeasError(ValueError):
     argument: str | None
     row: int | None
     field: str | None
+    #: the rows (0-based) of an error about several rows of one table, and what is wrong
+    rows: list[int] | None
+    reason: str | None
 
 @final
 class ScoreOptions:

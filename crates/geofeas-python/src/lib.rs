@@ -33,6 +33,11 @@ pub(crate) fn py_err(err: geofeas::Error) -> PyErr {
         let _ = value.setattr("argument", err.argument());
         let _ = value.setattr("row", err.row());
         let _ = value.setattr("field", err.field());
+        let (rows, reason) = err
+            .rows()
+            .map_or((None, None), |(r, why)| (Some(r.to_vec()), Some(why)));
+        let _ = value.setattr("rows", rows);
+        let _ = value.setattr("reason", reason);
     });
     py_err
 }

@@ -63,6 +63,10 @@ pub enum Error {
         value: f64,
         reason: &'static str,
     },
+    /// Operator decisions that contradict each other or the feasibility rules; `rows` are the
+    /// decisions involved (0-based rows of the caller's table).
+    #[error("decisions rows {}: {reason}", join_rows(.rows))]
+    Decisions { rows: Vec<usize>, reason: String },
     /// Anything about input data that does not fit the variants above.
     #[error("{0}")]
     Invalid(String),
@@ -72,6 +76,13 @@ pub enum Error {
         argument: &'static str,
         source: Box<Error>,
     },
+}
+
+fn join_rows(rows: &[usize]) -> String {
+    rows.iter()
+        .map(|r| r.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 impl Error {
@@ -103,6 +114,16 @@ impl Error {
             | Self::OutOfDomain { row, .. }
             | Self::NotPositiveDefinite { row, .. } => Some(*row),
             Self::InArgument { source, .. } => source.row(),
+            _ => None,
+        }
+    }
+
+    /// The rows at fault (0-based) and what is wrong with them together, for an error about
+    /// several rows of one table ([`Error::Decisions`]).
+    pub fn rows(&self) -> Option<(&[usize], &str)> {
+        match self {
+            Self::Decisions { rows, reason } => Some((rows, reason)),
+            Self::InArgument { source, .. } => source.rows(),
             _ => None,
         }
     }

@@ -10,6 +10,8 @@ are, and the posterior of every other pair of their components is recomputed und
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -41,11 +43,39 @@ class Decisions:
         a: NDArray[np.uint32],
         b: NDArray[np.uint32],
         same: NDArray[np.bool_],
+        name: str = "decisions",
     ) -> None:
         self.frame = frame
         self.a = a
         self.b = b
         self.same = same
+        #: where the table came from: a file's path, or ``"decisions"`` for a DataFrame
+        self.name = name
+
+    def where(self, row: int) -> str:
+        """Row ``row`` (0-based) as the user sees it: the file line of a CSV file (the header
+        is line 1), else the table row."""
+        return _where(self.name, row)
+
+    @contextmanager
+    def naming_rows(self) -> Iterator[None]:
+        """Re-raise the engine's errors about several decisions (contradictions) naming them as
+        the user wrote them: ``d.csv: line 2 (A same B), line 4 (A different B): ...``. The
+        error keeps the 0-based ``rows``."""
+        try:
+            yield
+        except GeofeasError as exc:
+            rows = getattr(exc, "rows", None)
+            if not rows:
+                raise
+            cols = [self.frame[c].tolist() for c in DECISION_COLUMNS[:3]]
+            named = ", ".join(
+                f"{self.where(r)} ({cols[0][r]} {cols[2][r]} {cols[1][r]})" for r in rows
+            )
+            err = GeofeasError(f"{self.name}: {named}: {exc.reason}")
+            err.rows = list(rows)
+            err.reason = exc.reason
+            raise err from None
 
     def __len__(self) -> int:
         return int(self.a.shape[0])
@@ -60,6 +90,10 @@ class Decisions:
             np.zeros(0, np.uint32),
             np.zeros(0, np.bool_),
         )
+
+
+def _where(name: str, row: int) -> str:
+    return f"line {row + 2}" if name.lower().endswith(".csv") else f"row {row}"
 
 
 def _table(source: Any) -> tuple[pd.DataFrame, str]:
@@ -91,14 +125,13 @@ def read_decisions(source: Any, reports: Reports) -> Decisions:
 
     Errors name the row (the file line for CSV files) and the column: a missing column, an
     unknown track id, a pair of one track with itself, a decision other than ``same`` /
-    ``different``. Contradictions between decisions are found by the engine, which names the
-    rows involved.
+    ``different``. Contradictions between decisions are found by the engine: the error names
+    the decisions involved (file lines or rows, with their tracks; :meth:`Decisions.naming_rows`).
     """
     frame, name = _table(source)
-    lines = name.lower().endswith(".csv")
 
     def where(row: int) -> str:
-        return f"{name}: line {row + 2}" if lines else f"{name}: row {row}"
+        return f"{name}: {_where(name, row)}"
 
     missing = [c for c in DECISION_COLUMNS[:3] if c not in frame.columns]
     if missing:
@@ -128,4 +161,4 @@ def read_decisions(source: Any, reports: Reports) -> Decisions:
                 f"{where(row)}: column decision: expected 'same' or 'different', got {d!r}"
             )
         same[row] = word == "same"
-    return Decisions(frame, a, b, same)
+    return Decisions(frame, a, b, same, name)

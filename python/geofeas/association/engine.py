@@ -183,18 +183,19 @@ class Association:
             {k: v for k, v in self.options.items() if k in ASSOCIATION_DEFAULTS},
             {k: v for k, v in self.options.items() if k not in ASSOCIATION_DEFAULTS},
         )
-        out = _core.association_finish(
-            {
-                "source": raw.track_source,
-                "spread": raw.track_spread,
-                **_fields(raw.time_cover),
-            },
-            {"a": raw.a, "b": raw.b, "candidates": self.candidates, **_fields(raw.stats)},
-            [_fields(raw.counts)],
-            dec,
-            geographic=self.reports.coords == "geographic",
-            options=core,
-        )
+        with dec.naming_rows():
+            out = _core.association_finish(
+                {
+                    "source": raw.track_source,
+                    "spread": raw.track_spread,
+                    **_fields(raw.time_cover),
+                },
+                {"a": raw.a, "b": raw.b, "candidates": self.candidates, **_fields(raw.stats)},
+                [_fields(raw.counts)],
+                dec,
+                geographic=self.reports.coords == "geographic",
+                options=core,
+            )
         result = Association(self.reports, out, dict(self.options))
         result.decisions = dec
         return result
@@ -350,7 +351,8 @@ def associate(
     decisions : path, pandas.DataFrame or None
         Operator decisions (``track_a, track_b, decision`` with ``same`` / ``different``,
         optionally ``operator, time``; see :func:`geofeas.read_decisions`): hard constraints.
-        Contradictory decisions are refused with an error naming their rows.
+        Contradictory decisions are refused with an error naming them (file lines or rows,
+        with their tracks).
     score : one of :data:`SCORES`
         Per-instant geofeasibility score of the ``score`` column (seed 000).
     combine : {"chi2", "pvalue", "geometric", "harmonic", "arithmetic", "min"}
@@ -422,7 +424,8 @@ def associate(
         score_options,
     )
     dec = Decisions.empty() if decisions is None else read_decisions(decisions, rep)
-    raw = _core.associate(rep, dec, options=core)
+    with dec.naming_rows():
+        raw = _core.associate(rep, dec, options=core)
     result = Association(rep, raw, recorded)
     result.decisions = dec
     return result

@@ -713,19 +713,20 @@ def _gather(
         name: np.ascontiguousarray(pairs[name].to_numpy(dtype)[keep]) for name, dtype in _STATS
     }
     spread = tracks["spread"].to_numpy(np.float64)
-    raw = _core.association_finish(
-        {"source": track_reports.source, "spread": np.ascontiguousarray(spread), **cover},
-        {
-            "a": np.ascontiguousarray(a[keep]),
-            "b": np.ascontiguousarray(b[keep]),
-            "candidates": candidates,
-            **stats,
-        },
-        counts,
-        decisions,
-        geographic=coords == "geographic",
-        options=options,
-    )
+    with decisions.naming_rows():
+        raw = _core.association_finish(
+            {"source": track_reports.source, "spread": np.ascontiguousarray(spread), **cover},
+            {
+                "a": np.ascontiguousarray(a[keep]),
+                "b": np.ascontiguousarray(b[keep]),
+                "candidates": candidates,
+                **stats,
+            },
+            counts,
+            decisions,
+            geographic=coords == "geographic",
+            options=options,
+        )
     result = DistributedAssociation(track_reports, raw, recorded, tracks, tiles)
     result.decisions = decisions
     return result

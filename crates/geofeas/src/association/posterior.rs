@@ -372,6 +372,38 @@ fn log_sum_exp(xs: impl Iterator<Item = f64> + Clone) -> f64 {
 
 /// Builds the components of the candidate graph of `pairs` with log-likelihood ratios `llr`
 /// (pairs below [`L_CUT`] left out) and `decisions`, checking the decisions.
+/// The rows of decisions "same" along a shortest chain of them from track `a` to track `b`, in
+/// chain order (empty if none joins them).
+fn same_path(decisions: &[Decision], a: u32, b: u32) -> Vec<usize> {
+    use std::collections::{HashMap, VecDeque};
+    let mut adj: HashMap<u32, Vec<(u32, usize)>> = HashMap::new();
+    for d in decisions.iter().filter(|d| d.same) {
+        adj.entry(d.a).or_default().push((d.b, d.row));
+        adj.entry(d.b).or_default().push((d.a, d.row));
+    }
+    let mut prev: HashMap<u32, (u32, usize)> = HashMap::new();
+    let mut queue = VecDeque::from([a]);
+    while let Some(x) = queue.pop_front() {
+        if x == b {
+            break;
+        }
+        for &(y, row) in adj.get(&x).map_or(&[][..], |v| &v[..]) {
+            if y != a && !prev.contains_key(&y) {
+                prev.insert(y, (x, row));
+                queue.push_back(y);
+            }
+        }
+    }
+    let mut rows = Vec::new();
+    let mut x = b;
+    while let Some(&(p, row)) = prev.get(&x) {
+        rows.push(row);
+        x = p;
+    }
+    rows.reverse();
+    rows
+}
+
 fn components(
     tracks: &[Track],
     cover: &TimeCover,
@@ -384,53 +416,42 @@ fn components(
     let n = tracks.len();
     for d in decisions {
         if d.a as usize >= n || d.b as usize >= n || d.a == d.b {
-            return Err(Error::Invalid(format!(
-                "decisions row {}: not two distinct tracks of the picture",
-                d.row
-            )));
+            return Err(Error::Decisions {
+                rows: vec![d.row],
+                reason: "not two distinct tracks of the picture".into(),
+            });
         }
     }
-    // blocks of tracks declared the same, with the first decision that joined them
+    // blocks of tracks declared the same
     let mut same = Dsu::new(n);
     for d in decisions.iter().filter(|d| d.same) {
         same.union(d.a, d.b);
     }
-    let mut rows_of_block: std::collections::HashMap<u32, Vec<usize>> = Default::default();
-    for d in decisions.iter().filter(|d| d.same) {
-        let r = same.find(d.a);
-        rows_of_block.entry(r).or_default().push(d.row);
-    }
-    let fmt_rows = |rows: &[usize]| {
-        rows.iter()
-            .map(|r| r.to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
     for d in decisions.iter().filter(|d| !d.same) {
         if same.find(d.a) == same.find(d.b) {
-            let rows = rows_of_block[&same.find(d.a)].clone();
-            return Err(Error::Invalid(format!(
-                "decisions row {}: declares two tracks different that decisions rows {} make \
-                 the same object",
-                d.row,
-                fmt_rows(&rows)
-            )));
+            let mut rows = same_path(decisions, d.a, d.b);
+            rows.push(d.row);
+            return Err(Error::Decisions {
+                rows,
+                reason: "the last declares two tracks different that the others make one object"
+                    .into(),
+            });
         }
     }
     let mut members: std::collections::HashMap<u32, Vec<u32>> = Default::default();
     for t in 0..n as u32 {
         members.entry(same.find(t)).or_default().push(t);
     }
-    for (root, ms) in &members {
+    for ms in members.values() {
         for (i, &x) in ms.iter().enumerate() {
             for &y in &ms[i + 1..] {
                 if tracks[x as usize].conflicts(&tracks[y as usize]) {
-                    let rows = rows_of_block[root].clone();
-                    return Err(Error::Invalid(format!(
-                        "decisions rows {}: make one object of two tracks of one source at \
-                         overlapping times",
-                        fmt_rows(&rows)
-                    )));
+                    return Err(Error::Decisions {
+                        rows: same_path(decisions, x, y),
+                        reason: "make one object of two tracks of one source at overlapping \
+                                 times"
+                            .into(),
+                    });
                 }
             }
         }
@@ -2268,9 +2289,34 @@ mod tests {
             &Inference::default(),
             (0.01, 0.99),
         )
-        .unwrap_err()
-        .to_string();
-        assert!(err.contains("row 9") && err.contains("4, 7"), "{err}");
+        .unwrap_err();
+        assert_eq!(
+            err.rows().map(|r| r.0.to_vec()),
+            Some(vec![4, 7, 9]),
+            "{err}"
+        );
+        assert!(err.to_string().contains("different"), "{err}");
+        // only the chain of decisions that joins the two tracks is named: row 5 is another's
+        let err = posterior(
+            &tracks,
+            &whole(&tracks),
+            &pairs,
+            &own(&llr),
+            &[
+                d(1, 2, true, 7),
+                d(1, 3, true, 5),
+                d(0, 1, true, 4),
+                d(0, 2, false, 9),
+            ],
+            &Inference::default(),
+            (0.01, 0.99),
+        )
+        .unwrap_err();
+        assert_eq!(
+            err.rows().map(|r| r.0.to_vec()),
+            Some(vec![4, 7, 9]),
+            "{err}"
+        );
         // two AIS tracks at overlapping times declared one object
         let err = posterior(
             &tracks,
