@@ -11,13 +11,20 @@ can leave among the HF DF pairs while it loses at most 1 % of the picture's true
 ``non-match`` in expectation is the bound of ``geofeas.demo.evaluate.borderline_bound`` (the
 whole 1 % budget given to HF DF, none to the other pairs; ``oracle_borderline``, which
 ``geofeas demo`` prints). Printed per
-seed, beside what ``geofeas.associate`` (defaults) does on the same picture.
+seed, beside what ``geofeas.associate`` (defaults) does on the same picture, and, to compare the
+two posteriors rather than the two triage rules, the oracle's groups classed by the defaults'
+thresholds (0.01 and 0.99: borderline pairs, expected true pairs lost) and where each puts its
+probability: summed over the real HF DF tracks, on the true vessel (the model's ``p_same`` of a
+vessel is the largest over its tracks' pairs with the fix) and, for the model, on the vessels
+the oracle excludes (``q = 0``: mostly vessels whose path is unknown at one of the fix times,
+which the simulation never makes emitters).
 """
 
 from __future__ import annotations
 
 import argparse
 
+import numpy as np
 import pandas as pd
 
 import geofeas
@@ -25,6 +32,37 @@ from geofeas.demo import bundled
 from geofeas.demo.evaluate import borderline_bound, labels, oracle_groups, track_table, true_pairs
 from geofeas.demo.scenario import simulate
 from geofeas.io.ais import read_ais
+
+
+def fixes_covered(sc: object, tracks: pd.DataFrame, max_gap: float = 300.0) -> tuple[int, int, int]:
+    """The fixes of the real HF DF tracks (all, at which the one track of the true vessel that
+    covers most of them has a state, at which any of its tracks has one): a track has a state
+    at its reports and between two of them at most ``max_gap`` apart (the alignment's rule,
+    ``horizon`` 0)."""
+    rep = sc.reports
+    times = pd.Series(np.asarray(sc.seconds, dtype=np.float64), index=rep.index)
+    by_track = {
+        str(k): np.sort(g.to_numpy()) for k, g in times.groupby(rep["track_id"].astype(str))
+    }
+    src, mm = tracks["source"], tracks["mmsi"]
+
+    def covered(t: np.ndarray, fix: np.ndarray) -> np.ndarray:
+        j = np.searchsorted(t, fix)
+        at = (j < len(t)) & (t[np.minimum(j, len(t) - 1)] == fix)
+        inside = (j > 0) & (j < len(t))
+        gap = t[np.minimum(j, len(t) - 1)] - t[np.maximum(j - 1, 0)]
+        return at | (inside & (gap <= max_gap))
+
+    total = best = union = 0
+    for d in src.index[(src == "hfdf") & (mm >= 0)]:
+        mates = src.index[(src != "hfdf") & (mm == mm[d])]
+        fix = by_track[d]
+        total += len(fix)
+        if len(mates):
+            cov = np.array([covered(by_track[m], fix) for m in mates])
+            best += int(cov.sum(axis=1).max())
+            union += int(cov.any(axis=0).sum())
+    return total, best, union
 
 
 def measure(recording: str, seed: int) -> dict[str, float]:
@@ -43,7 +81,28 @@ def measure(recording: str, seed: int) -> dict[str, float]:
     y = labels(p, tracks)
     n_true = len(truth)
     groups = oracle_groups(sc, rec, p, tracks)
-    bound = borderline_bound(groups["q"].to_numpy(), groups["n"].to_numpy(), 0.01 * n_true)
+    q, n = groups["q"].to_numpy(), groups["n"].to_numpy()
+    bound = borderline_bound(q, n, 0.01 * n_true)
+    # the model's probability per (fix track, vessel): the largest p_same of the vessel's tracks
+    fix = np.where(df_a, a, b)
+    partner = np.where(df_a, b, a)
+    one = df_a ^ df_b
+    mm = tracks["mmsi"]
+    model = (
+        pd.DataFrame(
+            {
+                "track_id": fix[one],
+                "mmsi": mm.loc[partner[one]].to_numpy(),
+                "p": p["p_same"].to_numpy()[one],
+            }
+        )
+        .groupby(["track_id", "mmsi"])["p"]
+        .max()
+        .reset_index()
+    )
+    both = groups.merge(model, how="left", on=["track_id", "mmsi"])
+    truth_mmsi = mm.loc[both["track_id"]].to_numpy()
+    true_vessel = (both["mmsi"].to_numpy() == truth_mmsi) & (truth_mmsi >= 0)
     return dict(
         recording=recording,
         seed=seed,
@@ -55,8 +114,19 @@ def measure(recording: str, seed: int) -> dict[str, float]:
         model_borderline_other=int(((cls == "borderline") & ~df).sum()),
         model_load=round(float((cls == "borderline").sum()) / n_true, 2),
         model_lost_hfdf=int(((cls == "non-match") & df & y).sum()),
-        oracle_triage_expected_loss=round(
-            float((groups["q"] * groups["n"])[groups["q"] < 0.01].sum()), 1
+        oracle_triage_expected_loss=round(float((q * n)[q < 0.01].sum()), 1),
+        oracle_borderline_at_thresholds=int(n[(q > 0.01) & (q < 0.99)].sum()),
+        oracle_loss_at_thresholds=round(float((q * n)[q <= 0.01].sum()), 1),
+        oracle_true_vessel=round(float(q[true_vessel].sum()), 2),
+        model_true_vessel=round(float(both["p"].to_numpy()[true_vessel].sum()), 2),
+        model_on_excluded=round(float(both["p"].to_numpy()[q == 0].sum()), 2),
+        model_on_vessels=round(float(both["p"].sum()), 2),
+        **dict(
+            zip(
+                ("fixes", "fixes_best_track", "fixes_any_track"),
+                fixes_covered(sc, tracks),
+                strict=True,
+            )
         ),
     )
 
