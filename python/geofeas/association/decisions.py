@@ -125,7 +125,8 @@ def read_decisions(source: Any, reports: Reports) -> Decisions:
 
     Errors name the row (the file line for CSV files) and the column: a missing column, an
     unknown track id, a pair of one track with itself, a decision other than ``same`` /
-    ``different``. Contradictions between decisions are found by the engine: the error names
+    ``different`` (read without regard to case or surrounding spaces; the table keeps the words
+    as written). Contradictions between decisions are found by the engine: the error names
     the decisions involved (file lines or rows, with their tracks; :meth:`Decisions.naming_rows`).
     """
     frame, name = _table(source)
