@@ -493,6 +493,14 @@ def geodesic_direct(
     s12: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]: ...
 def project_aeqd(aou: NDArray[np.float64], origin: tuple[float, float]) -> NDArray[np.float64]: ...
+def decisions_contradiction(
+    source: NDArray[np.uint32],
+    start: NDArray[np.float64],
+    end: NDArray[np.float64],
+    a: NDArray[np.uint32],
+    b: NDArray[np.uint32],
+    same: NDArray[np.bool_],
+) -> tuple[list[int], str] | None: ...
 def association_pair_stats(
     reports: _ReportColumns,
     a: NDArray[np.uint32],

@@ -598,6 +598,62 @@ impl StatesAt {
     }
 }
 
+/// Whether operator decisions are possible together (`association::posterior::check_decisions`):
+/// the tracks by `source` code and time span `start`, `end`; decision `k` joins tracks `a[k]`
+/// and `b[k]` (`same[k]`) or separates them. `None` if they are, else the decisions involved
+/// (indices into `a`: the shortest chain of "same" decisions, then the "different" one) and
+/// what is wrong with them.
+#[pyfunction]
+#[pyo3(signature = (source, start, end, a, b, same))]
+fn decisions_contradiction<'py>(
+    source: PyReadonlyArray1<'py, u32>,
+    start: PyReadonlyArray1<'py, f64>,
+    end: PyReadonlyArray1<'py, f64>,
+    a: PyReadonlyArray1<'py, u32>,
+    b: PyReadonlyArray1<'py, u32>,
+    same: PyReadonlyArray1<'py, bool>,
+) -> PyResult<Option<(Vec<usize>, String)>> {
+    let (src, t0, t1) = (
+        slice("source", &source)?,
+        slice("start", &start)?,
+        slice("end", &end)?,
+    );
+    let (sa, sb, ss) = (slice("a", &a)?, slice("b", &b)?, slice("same", &same)?);
+    if t0.len() != src.len()
+        || t1.len() != src.len()
+        || sb.len() != sa.len()
+        || ss.len() != sa.len()
+    {
+        return Err(py_err(Error::Invalid(
+            "decisions_contradiction: source, start, end must have one row per track and a, b, \
+             same one per decision"
+                .into(),
+        )));
+    }
+    let tracks: Vec<association::posterior::Track> = (0..src.len())
+        .map(|t| association::posterior::Track {
+            source: src[t],
+            start: t0[t],
+            end: t1[t],
+            spread: 1.0,
+            further: 0.0,
+        })
+        .collect();
+    let decisions: Vec<Decision> = (0..sa.len())
+        .map(|k| Decision {
+            a: sa[k],
+            b: sb[k],
+            same: ss[k],
+            row: k,
+        })
+        .collect();
+    match association::posterior::check_decisions(&tracks, &decisions) {
+        Ok(()) => Ok(None),
+        Err(Error::Decisions { rows, reason }) => Ok(Some((rows, reason))),
+        Err(e) => Err(py_err(e)),
+    }
+}
+
 /// Geographic AOU rows `(n, 5)` `lat, lon, rx, ry, bearing` (degrees, metres, degrees clockwise
 /// from north) as planar rows `x, y, rx, ry, phi` in the azimuthal-equidistant frame of
 /// `origin = (lat, lon)` (`geofeas::association::geodesy::project_aeqd`).
@@ -711,6 +767,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(association_pair_instants, m)?)?;
     m.add_function(wrap_pyfunction!(association_states_at, m)?)?;
     m.add_function(wrap_pyfunction!(project_aeqd, m)?)?;
+    m.add_function(wrap_pyfunction!(decisions_contradiction, m)?)?;
     m.add_function(wrap_pyfunction!(geodesic_inverse, m)?)?;
     m.add_function(wrap_pyfunction!(geodesic_direct, m)?)?;
     m.add("WGS84_A", association::geodesy::WGS84_A)?;

@@ -123,52 +123,74 @@ def contradiction(
     decisions: Iterable[Entry], spans: Mapping[str, TrackSpan] | None = None
 ) -> tuple[str, list[Entry]] | None:
     """The first contradiction among active ``same`` / ``different`` decisions, as
-    ``(reason, rows involved)``, or ``None``. The rules of the engine: a ``different`` between
-    two tracks a chain of ``same`` joins; a chain of ``same`` that puts two tracks of one source
-    at overlapping times into one object (when ``spans`` gives the tracks' sources and spans)."""
-    parent: dict[str, str] = {}
+    ``(reason, rows involved)``, or ``None``, by the engine's own check
+    (``geofeas._core.decisions_contradiction``): a ``different`` between two tracks a chain of
+    ``same`` joins; a chain of ``same`` that puts two tracks of one source at overlapping times
+    into one object (when ``spans`` gives the tracks' sources and spans). The rows involved are
+    the shortest such chain (and the ``different``)."""
+    import numpy as np
 
-    def find(x: str) -> str:
-        parent.setdefault(x, x)
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
+    from .._core import decisions_contradiction
 
-    rows = list(decisions)
-    same = [e for e in rows if e.action == "same"]
-    for e in same:
-        parent[find(e.track_a)] = find(e.track_b)
-    block_rows: dict[str, list[Entry]] = {}
-    for e in same:
-        block_rows.setdefault(find(e.track_a), []).append(e)
+    rows = [e for e in decisions if e.action in ("same", "different")]
+    ids: dict[str, int] = {}
     for e in rows:
-        if e.action == "different" and find(e.track_a) == find(e.track_b):
-            involved = block_rows[find(e.track_a)]
-            return (
-                f"({e.track_a}, {e.track_b}) declared different, but "
-                + "; ".join(x.describe() for x in involved)
-                + " make them one object",
-                [e, *involved],
-            )
-    if spans:
-        members: dict[str, list[str]] = {}
-        for t in list(parent):
-            members.setdefault(find(t), []).append(t)
-        for root, ts in members.items():
-            for i, x in enumerate(ts):
-                for y in ts[i + 1 :]:
-                    sx, sy = spans.get(x), spans.get(y)
-                    if sx is not None and sy is not None and sx.conflicts(sy):
-                        involved = block_rows[root]
-                        return (
-                            f"tracks {x} and {y} are both {sx.source} tracks at overlapping "
-                            "times, so they cannot be one object, but "
-                            + "; ".join(e.describe() for e in involved)
-                            + " join them",
-                            involved,
-                        )
-    return None
+        for t in (e.track_a, e.track_b):
+            ids.setdefault(t, len(ids))
+    codes: dict[str, int] = {}
+    source = np.zeros(len(ids), np.uint32)
+    start = np.zeros(len(ids), np.float64)
+    end = np.zeros(len(ids), np.float64)
+    for t, k in ids.items():
+        span = spans.get(t) if spans else None
+        # a track without a span gets a source of its own: it conflicts with none
+        key = span.source if span is not None else f"\0{t}"
+        source[k] = codes.setdefault(key, len(codes))
+        if span is not None:
+            start[k], end[k] = span.start, span.end
+    found = decisions_contradiction(
+        source,
+        start,
+        end,
+        np.array([ids[e.track_a] for e in rows], np.uint32),
+        np.array([ids[e.track_b] for e in rows], np.uint32),
+        np.array([e.action == "same" for e in rows], np.bool_),
+    )
+    if found is None:
+        return None
+    chain = [rows[k] for k in found[0]]
+    reason = found[1]
+    if "overlapping" not in reason and chain[-1].action != "different":
+        return reason + ": " + "; ".join(e.describe() for e in chain), chain
+    if chain[-1].action == "different":
+        e, involved = chain[-1], chain[:-1]
+        return (
+            f"({e.track_a}, {e.track_b}) declared different, but "
+            + "; ".join(x.describe() for x in involved)
+            + " make them one object",
+            [e, *involved],
+        )
+    # the chain's two ends are the two tracks of one source
+    x, y = _chain_ends(chain)
+    kind = spans[x].source if spans and x in spans else "same-source"
+    return (
+        f"tracks {x} and {y} are both {kind} tracks at overlapping times, so they cannot be "
+        "one object, but " + "; ".join(e.describe() for e in chain) + " join them",
+        chain,
+    )
+
+
+def _chain_ends(chain: list[Entry]) -> tuple[str, str]:
+    """The two tracks a chain of decisions (each sharing a track with the next) joins."""
+    first = (chain[0].track_a, chain[0].track_b)
+    if len(chain) == 1:
+        return first
+    nxt = {chain[1].track_a, chain[1].track_b}
+    head = first[0] if first[1] in nxt else first[1]
+    last = (chain[-1].track_a, chain[-1].track_b)
+    prev = {chain[-2].track_a, chain[-2].track_b}
+    tail = last[0] if last[1] in prev else last[1]
+    return head, tail
 
 
 def _now() -> str:

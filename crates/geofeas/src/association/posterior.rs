@@ -372,47 +372,14 @@ fn log_sum_exp(xs: impl Iterator<Item = f64> + Clone) -> f64 {
 
 /// Builds the components of the candidate graph of `pairs` with log-likelihood ratios `llr`
 /// (pairs below [`L_CUT`] left out) and `decisions`, checking the decisions.
-/// The rows of decisions "same" along a shortest chain of them from track `a` to track `b`, in
-/// chain order (empty if none joins them).
-fn same_path(decisions: &[Decision], a: u32, b: u32) -> Vec<usize> {
-    use std::collections::{HashMap, VecDeque};
-    let mut adj: HashMap<u32, Vec<(u32, usize)>> = HashMap::new();
-    for d in decisions.iter().filter(|d| d.same) {
-        adj.entry(d.a).or_default().push((d.b, d.row));
-        adj.entry(d.b).or_default().push((d.a, d.row));
-    }
-    let mut prev: HashMap<u32, (u32, usize)> = HashMap::new();
-    let mut queue = VecDeque::from([a]);
-    while let Some(x) = queue.pop_front() {
-        if x == b {
-            break;
-        }
-        for &(y, row) in adj.get(&x).map_or(&[][..], |v| &v[..]) {
-            if y != a && !prev.contains_key(&y) {
-                prev.insert(y, (x, row));
-                queue.push_back(y);
-            }
-        }
-    }
-    let mut rows = Vec::new();
-    let mut x = b;
-    while let Some(&(p, row)) = prev.get(&x) {
-        rows.push(row);
-        x = p;
-    }
-    rows.reverse();
-    rows
-}
-
-fn components(
-    tracks: &[Track],
-    cover: &TimeCover,
-    pairs: &[(u32, u32)],
-    llr: &[f64],
-    own: &[(f64, f64)],
-    k_eff: &[f64],
-    decisions: &[Decision],
-) -> Result<Vec<Component>> {
+/// Whether operator `decisions` on `tracks` (only their sources and spans are read) are
+/// possible together: every decision names two distinct tracks; no "different" decision is
+/// joined by a chain of "same" ones; no chain of "same" decisions makes one object of two
+/// tracks of one source at overlapping times. The error ([`Error::Decisions`]) names the
+/// decisions involved by their `row`: the shortest chain of "same" decisions, then the
+/// "different" one. The engine checks this first; the review station's decision log checks an
+/// operator's new decision with it before writing it.
+pub fn check_decisions(tracks: &[Track], decisions: &[Decision]) -> Result<()> {
     let n = tracks.len();
     for d in decisions {
         if d.a as usize >= n || d.b as usize >= n || d.a == d.b {
@@ -455,6 +422,57 @@ fn components(
                 }
             }
         }
+    }
+    Ok(())
+}
+
+/// The rows of decisions "same" along a shortest chain of them from track `a` to track `b`, in
+/// chain order (empty if none joins them).
+fn same_path(decisions: &[Decision], a: u32, b: u32) -> Vec<usize> {
+    use std::collections::{HashMap, VecDeque};
+    let mut adj: HashMap<u32, Vec<(u32, usize)>> = HashMap::new();
+    for d in decisions.iter().filter(|d| d.same) {
+        adj.entry(d.a).or_default().push((d.b, d.row));
+        adj.entry(d.b).or_default().push((d.a, d.row));
+    }
+    let mut prev: HashMap<u32, (u32, usize)> = HashMap::new();
+    let mut queue = VecDeque::from([a]);
+    while let Some(x) = queue.pop_front() {
+        if x == b {
+            break;
+        }
+        for &(y, row) in adj.get(&x).map_or(&[][..], |v| &v[..]) {
+            if y != a && !prev.contains_key(&y) {
+                prev.insert(y, (x, row));
+                queue.push_back(y);
+            }
+        }
+    }
+    let mut rows = Vec::new();
+    let mut x = b;
+    while let Some(&(p, row)) = prev.get(&x) {
+        rows.push(row);
+        x = p;
+    }
+    rows.reverse();
+    rows
+}
+
+fn components(
+    tracks: &[Track],
+    cover: &TimeCover,
+    pairs: &[(u32, u32)],
+    llr: &[f64],
+    own: &[(f64, f64)],
+    k_eff: &[f64],
+    decisions: &[Decision],
+) -> Result<Vec<Component>> {
+    let n = tracks.len();
+    check_decisions(tracks, decisions)?;
+    // blocks of tracks declared the same
+    let mut same = Dsu::new(n);
+    for d in decisions.iter().filter(|d| d.same) {
+        same.union(d.a, d.b);
     }
     // components: candidate pairs above the cut and decisions
     let mut dsu = Dsu::new(n);
