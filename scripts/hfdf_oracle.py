@@ -23,6 +23,7 @@ which the simulation never makes emitters).
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -34,32 +35,31 @@ from geofeas.demo.scenario import simulate
 from geofeas.io.ais import read_ais
 
 
-def fixes_covered(sc: object, tracks: pd.DataFrame, max_gap: float = 300.0) -> tuple[int, int, int]:
+def fixes_covered(res: geofeas.Association, sc: Any, tracks: pd.DataFrame) -> tuple[int, int, int]:
     """The fixes of the real HF DF tracks (all, at which the one track of the true vessel that
-    covers most of them has a state, at which any of its tracks has one): a track has a state
-    at its reports and between two of them at most ``max_gap`` apart (the alignment's rule,
-    ``horizon`` 0)."""
+    covers most of them has a state, at which any of its tracks has one), by the time cover the
+    association computed (a track has a state inside a chain of its reports)."""
     rep = sc.reports
     times = pd.Series(np.asarray(sc.seconds, dtype=np.float64), index=rep.index)
-    by_track = {
-        str(k): np.sort(g.to_numpy()) for k, g in times.groupby(rep["track_id"].astype(str))
-    }
+    fixes = {str(k): g.to_numpy() for k, g in times.groupby(rep["track_id"].astype(str))}
+    cover = res._raw.time_cover
+    offsets = np.asarray(cover.cover_offsets)
+    start, end = np.asarray(cover.cover_start), np.asarray(cover.cover_end)
+    index = {str(t): k for k, t in enumerate(res.reports.track_ids)}
+
+    def covered(track: str, fix: np.ndarray) -> np.ndarray:
+        k = index[track]
+        s, e = start[offsets[k] : offsets[k + 1]], end[offsets[k] : offsets[k + 1]]
+        return ((s[None, :] <= fix[:, None]) & (fix[:, None] <= e[None, :])).any(axis=1)
+
     src, mm = tracks["source"], tracks["mmsi"]
-
-    def covered(t: np.ndarray, fix: np.ndarray) -> np.ndarray:
-        j = np.searchsorted(t, fix)
-        at = (j < len(t)) & (t[np.minimum(j, len(t) - 1)] == fix)
-        inside = (j > 0) & (j < len(t))
-        gap = t[np.minimum(j, len(t) - 1)] - t[np.maximum(j - 1, 0)]
-        return at | (inside & (gap <= max_gap))
-
     total = best = union = 0
     for d in src.index[(src == "hfdf") & (mm >= 0)]:
         mates = src.index[(src != "hfdf") & (mm == mm[d])]
-        fix = by_track[d]
+        fix = fixes[d]
         total += len(fix)
         if len(mates):
-            cov = np.array([covered(by_track[m], fix) for m in mates])
+            cov = np.array([covered(m, fix) for m in mates])
             best += int(cov.sum(axis=1).max())
             union += int(cov.any(axis=0).sum())
     return total, best, union
@@ -124,7 +124,7 @@ def measure(recording: str, seed: int) -> dict[str, float]:
         **dict(
             zip(
                 ("fixes", "fixes_best_track", "fixes_any_track"),
-                fixes_covered(sc, tracks),
+                fixes_covered(res, sc, tracks),
                 strict=True,
             )
         ),

@@ -28,7 +28,9 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
-from .._core import GeofeasError
+import numpy as np
+
+from .._core import GeofeasError, decisions_contradiction
 
 __all__ = [
     "ACTIONS",
@@ -128,10 +130,6 @@ def contradiction(
     ``same`` joins; a chain of ``same`` that puts two tracks of one source at overlapping times
     into one object (when ``spans`` gives the tracks' sources and spans). The rows involved are
     the shortest such chain (and the ``different``)."""
-    import numpy as np
-
-    from .._core import decisions_contradiction
-
     rows = [e for e in decisions if e.action in ("same", "different")]
     ids: dict[str, int] = {}
     for e in rows:
@@ -158,10 +156,8 @@ def contradiction(
     )
     if found is None:
         return None
+    # the log refuses a pair of a track with itself before, so the chain is one of the two
     chain = [rows[k] for k in found[0]]
-    reason = found[1]
-    if "overlapping" not in reason and chain[-1].action != "different":
-        return reason + ": " + "; ".join(e.describe() for e in chain), chain
     if chain[-1].action == "different":
         e, involved = chain[-1], chain[:-1]
         return (
@@ -172,7 +168,7 @@ def contradiction(
         )
     # the chain's two ends are the two tracks of one source
     x, y = _chain_ends(chain)
-    kind = spans[x].source if spans and x in spans else "same-source"
+    kind = spans[x].source if spans else ""
     return (
         f"tracks {x} and {y} are both {kind} tracks at overlapping times, so they cannot be "
         "one object, but " + "; ".join(e.describe() for e in chain) + " join them",

@@ -380,6 +380,11 @@ fn log_sum_exp(xs: impl Iterator<Item = f64> + Clone) -> f64 {
 /// "different" one. The engine checks this first; the review station's decision log checks an
 /// operator's new decision with it before writing it.
 pub fn check_decisions(tracks: &[Track], decisions: &[Decision]) -> Result<()> {
+    same_blocks(tracks, decisions).map(|_| ())
+}
+
+/// The blocks of tracks `decisions` declare the same, once [`check_decisions`] passes.
+fn same_blocks(tracks: &[Track], decisions: &[Decision]) -> Result<Dsu> {
     let n = tracks.len();
     for d in decisions {
         if d.a as usize >= n || d.b as usize >= n || d.a == d.b {
@@ -423,7 +428,7 @@ pub fn check_decisions(tracks: &[Track], decisions: &[Decision]) -> Result<()> {
             }
         }
     }
-    Ok(())
+    Ok(same)
 }
 
 /// The rows of decisions "same" along a shortest chain of them from track `a` to track `b`, in
@@ -468,12 +473,7 @@ fn components(
     decisions: &[Decision],
 ) -> Result<Vec<Component>> {
     let n = tracks.len();
-    check_decisions(tracks, decisions)?;
-    // blocks of tracks declared the same
-    let mut same = Dsu::new(n);
-    for d in decisions.iter().filter(|d| d.same) {
-        same.union(d.a, d.b);
-    }
+    let mut same = same_blocks(tracks, decisions)?;
     // components: candidate pairs above the cut and decisions
     let mut dsu = Dsu::new(n);
     for (k, &(a, b)) in pairs.iter().enumerate() {
@@ -735,6 +735,9 @@ struct Chain<'a> {
     cell_w: Vec<f64>,
     free: Vec<u32>,
     scratch: Vec<u32>,
+    /// Buffers of [`Chain::redraw_pair`]: its options and the tracks of an object it weighs.
+    pair_options: Vec<(u32, f64)>,
+    pair_tracks: Vec<u32>,
     /// Inverse temperature: the chain samples the posterior raised to `beta`.
     beta: f64,
     /// Log-weight of the current partition.
@@ -778,6 +781,8 @@ impl<'a> Chain<'a> {
             cell_blocks,
             free: Vec::new(),
             scratch: Vec::new(),
+            pair_options: Vec::new(),
+            pair_tracks: Vec::new(),
             beta: 1.0,
             logw: 0.0,
         };
@@ -969,16 +974,20 @@ impl<'a> Chain<'a> {
             return;
         }
         // b1 first, b2 second, then the others: bit k of a split puts set[k + 2] with b2
-        let mut set = vec![b1, b2];
-        for &c in if c1 == c2 { vec![c1] } else { vec![c1, c2] }.iter() {
-            set.extend(
-                self.cell_blocks[c as usize]
-                    .iter()
-                    .copied()
-                    .filter(|&k| k != b1 && k != b2),
-            );
+        let mut set = [0u32; PAIR_BLOCKS];
+        (set[0], set[1]) = (b1, b2);
+        let mut len = 2;
+        let cells = [c1, c2];
+        for &c in &cells[..if c1 == c2 { 1 } else { 2 }] {
+            for &k in &self.cell_blocks[c as usize] {
+                if k != b1 && k != b2 {
+                    set[len] = k;
+                    len += 1;
+                }
+            }
         }
-        let mut clash = vec![0u32; n];
+        let set = &set[..n];
+        let mut clash = [0u32; PAIR_BLOCKS];
         for i in 0..n {
             for j in i + 1..n {
                 let (x, y) = (&comp.blocks[set[i] as usize], &comp.blocks[set[j] as usize]);
@@ -989,7 +998,7 @@ impl<'a> Chain<'a> {
             }
         }
         let feasible = |bits: u32| (0..n).all(|i| bits >> i & 1 == 0 || clash[i] & bits == 0);
-        let mut tracks = Vec::new();
+        let mut tracks = std::mem::take(&mut self.pair_tracks);
         let mut weight = |ch: &mut Self, bits: u32| -> f64 {
             tracks.clear();
             for (i, &k) in set.iter().enumerate() {
@@ -1001,7 +1010,8 @@ impl<'a> Chain<'a> {
         };
         let all = (1u32 << n) - 1;
         // the options: the bits of b2's object (0: one object of all), and their log-weight
-        let mut options: Vec<(u32, f64)> = Vec::with_capacity((1 << (n - 2)) + 1);
+        let mut options = std::mem::take(&mut self.pair_options);
+        options.clear();
         if feasible(all) {
             let w = weight(self, all);
             if w > f64::NEG_INFINITY {
@@ -1036,6 +1046,9 @@ impl<'a> Chain<'a> {
             }
         }
         let with_b2 = options[pick].0;
+        // the buffers back to the chain for the next update
+        self.pair_options = options;
+        self.pair_tracks = tracks;
         // b1's blocks stay in (or go to) c1; b2's go to c2, or to a free cell if c1 == c2
         let to = if with_b2 == 0 {
             c1
@@ -1865,12 +1878,7 @@ mod tests {
         let sampled = sampled(&tracks, &pairs, &llr, 400, 5);
         assert!(sampled.p_same[0] > 1.0 - 1e-9, "{}", sampled.p_same[0]);
         for k in 1..5 {
-            assert!(
-                (sampled.p_same[k] - 0.5).abs() < 0.1,
-                "pair {k}: {} +- {}",
-                sampled.p_same[k],
-                sampled.std_error[k]
-            );
+            near_half(&sampled, k);
         }
     }
 
@@ -1914,12 +1922,7 @@ mod tests {
         let sampled = sampled(&tracks, &pairs, &llr, 400, 3);
         for k in 2..pairs.len() {
             assert!((exact.p_same[k] - 0.5).abs() < 1e-9, "{}", exact.p_same[k]);
-            assert!(
-                (sampled.p_same[k] - 0.5).abs() < 0.1,
-                "pair {k}: {} +- {}",
-                sampled.p_same[k],
-                sampled.std_error[k]
-            );
+            near_half(&sampled, k);
         }
     }
 
@@ -1978,6 +1981,16 @@ mod tests {
                 p.std_error[k]
             );
         }
+    }
+
+    /// The sampled marginal of pair `k` is 1/2 within 0.1.
+    fn near_half(sampled: &Posterior, k: usize) {
+        assert!(
+            (sampled.p_same[k] - 0.5).abs() < 0.1,
+            "pair {k}: {} +- {}",
+            sampled.p_same[k],
+            sampled.std_error[k]
+        );
     }
 
     fn exact(tracks: &[Track], pairs: &[(u32, u32)], llr: &[f64], dec: &[Decision]) -> Posterior {
