@@ -58,6 +58,9 @@ def test_pipeline_outputs(short_demo, tmp_path):
     # a truthful operator never makes the association worse
     assert (op["f1"].diff().fillna(0) >= -1e-9).all()
     assert (op["false_merges"].diff().fillna(0) <= 0).all()
+    # the objects imply every match pair and the true pairs that are no candidate pair too
+    assert op["object_f1"].iloc[0] == pytest.approx(res.default.metrics.object_f1, abs=1e-4)
+    assert (op["object_recall"] >= op["recall"] - 1e-12).all()
     pairs = pd.read_csv(tmp_path / "out" / "pairs.csv")
     m = res.default.metrics
     assert int((pairs["true_pair"] & (pairs["class"] == "match")).sum()) == m.tp

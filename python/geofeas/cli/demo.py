@@ -110,6 +110,10 @@ def main(args: argparse.Namespace) -> int:
     if result.operator is not None:
         steps = "  ".join(f"{int(r.decisions)}: {fmt(r.f1)}" for r in result.operator.itertuples())
         print(f"  F1 after truthful decisions in review order: {steps}")
+        steps = "  ".join(
+            f"{int(r.decisions)}: {fmt(r.object_f1)}" for r in result.operator.itertuples()
+        )
+        print(f"    of the pairs the objects imply: {steps}")
     if m.object_f1 == m.object_f1:
         print(
             f"  pairs implied by the objects: precision {fmt(m.object_precision)}  "

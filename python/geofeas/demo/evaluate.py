@@ -348,7 +348,10 @@ def simulate_operator(
 
     Returns one row per checkpoint: ``decisions`` (made so far), ``precision``, ``recall`` and
     ``f1`` of the ``match`` pairs, ``borderline`` (pairs still to review), ``false_merges``
-    and ``true_non_match`` (true pairs classed ``non-match``).
+    and ``true_non_match`` (true pairs classed ``non-match``), and ``object_precision``,
+    ``object_recall`` and ``object_f1`` of the pairs the association's objects imply (two
+    tracks of one object from different sources at a common time; they include the true pairs
+    that are no candidate pair, which the ``match`` pairs cannot hold).
     """
     truth = true_pairs(tracks)
     marks = sorted({int(c) for c in checkpoints})
@@ -368,6 +371,8 @@ def simulate_operator(
         match = cls == "match"
         tp = int((match & y).sum())
         prec, rec, f1 = prf(tp, int(match.sum()), len(truth))
+        implied = _object_pairs(current.objects, tracks)
+        o_prec, o_rec, o_f1 = prf(len(implied & truth), len(implied), len(truth))
         rows.append(
             dict(
                 decisions=len(decided),
@@ -377,6 +382,9 @@ def simulate_operator(
                 borderline=int((cls == "borderline").sum()),
                 false_merges=int((match & ~y).sum()),
                 true_non_match=int(((cls == "non-match") & y).sum()),
+                object_precision=o_prec,
+                object_recall=o_rec,
+                object_f1=o_f1,
             )
         )
 

@@ -481,33 +481,48 @@ pub fn track_summaries(r: &Reports) -> Vec<posterior::Track> {
         .collect()
 }
 
-/// The review order `order` (pairs by decreasing value) rearranged in rounds: each round takes,
-/// in order, the pairs none of whose tracks an earlier pair of the round holds, and defers the
-/// others to the next round. An answer about a track moves the probabilities of every other pair
-/// of that track (confirming one of its pairs settles its rivals; the pairs of one track with
-/// the AIS and the radar track of one ship ask the same question), so an operator working down
-/// the list without re-association between answers spends no answer on a question the previous
-/// one may have settled; with re-association after every answer only the first pair matters,
-/// and it is the most valuable one either way.
-fn one_question_per_track(order: Vec<usize>, pairs: &[(u32, u32)], n_tracks: usize) -> Vec<usize> {
-    let mut out = Vec::with_capacity(order.len());
-    let mut round = vec![u32::MAX; n_tracks];
-    let mut pending = order;
+/// The review order `order` (pairs by decreasing value) rearranged so that an operator working
+/// down the list spends no answer on a question an earlier one settles. `object` is each
+/// track's object (the tracks the `match` pairs and decisions "same" join).
+///
+/// - One question per pair of objects: the pairs that join the same two objects as a pair
+///   earlier in the order (an HF DF fix with a ship's AIS, radar and aircraft tracks, which the
+///   matches hold together at `p_same >= p_match`) ask the question that pair asks, and
+///   whatever its answer, it settles them; they go after every pair that asks something else.
+/// - Rounds: each round takes, in order, the pairs none of whose objects an earlier pair of
+///   the round holds, and defers the others to the next round. An answer about an object moves
+///   the probabilities of every other pair of it (confirming one of its pairs settles its
+///   rivals), so a batch of answers taken between two re-associations asks about as many
+///   objects as it can; with re-association after every answer only the first pair matters,
+///   and it is the most valuable one either way.
+fn one_question_per_object(order: Vec<usize>, pairs: &[(u32, u32)], object: &[u32]) -> Vec<usize> {
+    let key = |k: usize| {
+        let (a, b) = (object[pairs[k].0 as usize], object[pairs[k].1 as usize]);
+        (a.min(b), a.max(b))
+    };
+    let mut asked = std::collections::HashSet::with_capacity(order.len());
+    let (first, repeat): (Vec<usize>, Vec<usize>) =
+        order.into_iter().partition(|&k| asked.insert(key(k)));
+    let mut out = Vec::with_capacity(first.len() + repeat.len());
+    let mut round = vec![u32::MAX; object.len()];
     let mut r = 0u32;
-    while !pending.is_empty() {
-        let mut later = Vec::new();
-        for k in pending {
-            let (a, b) = (pairs[k].0 as usize, pairs[k].1 as usize);
-            if round[a] == r || round[b] == r {
-                later.push(k);
-            } else {
-                round[a] = r;
-                round[b] = r;
-                out.push(k);
+    for mut pending in [first, repeat] {
+        while !pending.is_empty() {
+            let mut later = Vec::new();
+            for k in pending {
+                let (a, b) = key(k);
+                let (a, b) = (a as usize, b as usize);
+                if round[a] == r || round[b] == r {
+                    later.push(k);
+                } else {
+                    round[a] = r;
+                    round[b] = r;
+                    out.push(k);
+                }
             }
+            pending = later;
+            r += 1;
         }
-        pending = later;
-        r += 1;
     }
     out
 }
@@ -660,7 +675,7 @@ pub fn finish(
             )
             .then(pairs[i].cmp(&pairs[j]))
     });
-    let order = one_question_per_track(order, &pairs, tracks.len());
+    let order = one_question_per_object(order, &pairs, &object);
     res.review_rank = vec![0; pairs.len()];
     for (rank, &k) in order.iter().enumerate() {
         res.review_rank[k] = rank as u32 + 1;
@@ -686,9 +701,26 @@ mod tests {
     #[test]
     fn review_rounds_ask_one_question_per_track() {
         let pairs = [(0, 1), (0, 2), (3, 4), (1, 5), (2, 6)];
-        let got = one_question_per_track(vec![0, 1, 2, 3, 4], &pairs, 7);
+        let object: Vec<u32> = (0..7).collect();
+        let got = one_question_per_object(vec![0, 1, 2, 3, 4], &pairs, &object);
         // round 0: (0 1), (3 4), (2 6); round 1: (0 2), (1 5)
         assert_eq!(got, vec![0, 2, 4, 1, 3]);
+    }
+
+    /// An HF DF fix (track 0) against two ships, each an AIS track and a radar track the
+    /// matches join (objects {1, 2} and {3, 4}), and an aircraft track (5) between the ships.
+    /// By value: the fix with ship 1's AIS, with its radar, with ship 2's AIS, with its radar,
+    /// the aircraft with ship 1's radar and with ship 2's AIS. The fix's second pair with each
+    /// ship asks the question its first one asks, and goes last; the aircraft's pair with ship
+    /// 1 waits a round, since the fix's pair with ship 1 holds that object.
+    #[test]
+    fn review_asks_one_question_per_pair_of_objects() {
+        let pairs = [(0, 1), (0, 2), (0, 3), (0, 4), (5, 2), (5, 3)];
+        let object = [0, 1, 1, 3, 3, 5];
+        let got = one_question_per_object(vec![0, 1, 2, 3, 4, 5], &pairs, &object);
+        // distinct questions: (0 1), (0 3), (5 1), (5 3); round 0: (0 1), (5 3); round 1:
+        // (0 3), (5 1); then the repeats (0 2) and (0 4) in rounds of their own
+        assert_eq!(got, vec![0, 5, 2, 4, 1, 3]);
     }
 
     /// A vague track's fixes weigh once each in the evidence, however many instants of its

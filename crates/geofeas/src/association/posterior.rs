@@ -1429,11 +1429,15 @@ fn pick<'a, T>(xs: &'a [T], rng: &mut Xoshiro256PlusPlus) -> Option<&'a T> {
 /// Most pairs a review value looks at beyond those sharing a track with the pair.
 const NEAR_BUDGET: usize = 256;
 
-/// The review value of every pair of a component: the expected reduction of the undecided mass
-/// `U = sum_q min(p_q, 1 - p_q)` over the other undecided pairs `q` of the component that share
-/// a track with it or (up to [`NEAR_BUDGET`] of them) with a pair sharing a track with it, from
-/// deciding it (`p` "same", `1 - p` "different"); and how many of those pairs each answer takes
-/// out of `(p_reject, p_match)`.
+/// The review value of every pair of a component: the expected probability mass of true pairs
+/// a decision on it settles, the reduction of `U = sum_q p_q` over the undecided pairs `q` (those
+/// in `(p_reject, p_match)`: the expected number of true pairs still waiting for the operator)
+/// among the pair itself and the pairs of the component that share a track with it or (up to
+/// [`NEAR_BUDGET`] of them) with a pair sharing a track with it, from deciding it (`p` "same",
+/// `1 - p` "different"); and how many of those pairs each answer takes out of the band. Since
+/// the conditionals average to the marginals, the reduction is the expected mass of the pairs
+/// that leave the band: those confirmed or taken to `match`, at nearly their whole mass, and
+/// those taken to `non-match`, at almost none.
 fn review_gain(
     comp: &Component,
     m: &Marginals,
@@ -1502,7 +1506,8 @@ fn review_gain(
             }
             let total: f64 = m.weights.iter().sum();
             let p = w_same / total;
-            let u = |x: f64| x.min(1.0 - x).max(0.0);
+            // the probability of being a true pair still in the band
+            let u = |x: f64| if undecided(x) { x } else { 0.0 };
             let mut before = u(m.p_pair[i]);
             let mut after = 0.0;
             let (mut s_same, mut s_diff) = (0u32, 0u32);
@@ -2366,25 +2371,41 @@ mod tests {
         );
     }
 
+    /// A radar track (2) between two ships (0, 1), both pairs of log-likelihood ratio `L`: the
+    /// partitions {0 2}{1}, {1 2}{0} and {0}{1}{2} weigh `e^L`, `e^L` and 1, so each pair has
+    /// `p = e^L / (2 e^L + 1)`, and "different" on one takes the other to `e^L / (e^L + 1)`.
+    /// At `L = 3` that is 0.953, still in the band: the answer "same" settles the pair's mass
+    /// and nothing else's ("different" leaves the rival's expected mass where it was), so the
+    /// value is `p`. At `L = 5` it is 0.993, a match: either answer settles both pairs, worth
+    /// `2 p`. A lone pair of `L = 0` (`p = 1 / 2`) is worth its own `p`. The pair that settles
+    /// most comes first: the pairs of `L = 5` before the lone pair before those of `L = 3`.
     #[test]
     fn the_review_order_puts_the_decision_that_settles_most_first() {
-        // component 1: a radar track between two ships (a decision on one pair settles the
-        // other); component 2: a lone pair as uncertain
         let tracks = [
             tr(0, 0.0, 10.0, 1.0),
             tr(0, 0.0, 10.0, 1.0),
             tr(1, 2.0, 8.0, 5.0),
             tr(0, 20.0, 30.0, 1.0),
             tr(1, 20.0, 30.0, 5.0),
+            tr(0, 40.0, 50.0, 1.0),
+            tr(0, 40.0, 50.0, 1.0),
+            tr(1, 42.0, 48.0, 5.0),
         ];
-        let p = exact(&tracks, &[(0, 2), (1, 2), (3, 4)], &[3.0, 3.0, 0.0], &[]);
-        assert!(
-            p.gain[0] > p.gain[2] && p.gain[1] > p.gain[2],
-            "{:?}",
-            p.gain
-        );
-        // "same" on (0, 2) takes (1, 2) to 0: out of the band
-        assert_eq!(p.settles[0].0, 1);
+        let pairs = [(0, 2), (1, 2), (3, 4), (5, 7), (6, 7)];
+        let p = exact(&tracks, &pairs, &[3.0, 3.0, 0.0, 5.0, 5.0], &[]);
+        let between = |l: f64| l.exp() / (2.0 * l.exp() + 1.0);
+        for (k, want) in [
+            (0, between(3.0)),
+            (1, between(3.0)),
+            (2, 0.5),
+            (3, 2.0 * between(5.0)),
+            (4, 2.0 * between(5.0)),
+        ] {
+            assert!((p.gain[k] - want).abs() < 1e-12, "pair {k}: {:?}", p.gain);
+        }
+        // "same" on (0, 2) takes (1, 2) to 0: out of the band; "different" leaves it in
+        assert_eq!(p.settles[0], (1, 0));
+        assert_eq!(p.settles[3], (1, 1));
         assert_eq!(p.settles[2], (0, 0));
     }
 
