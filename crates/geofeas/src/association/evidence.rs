@@ -11,11 +11,15 @@
 //! object density `mu` (objects per m^2); at every later *independent* instant it is where its
 //! own motion puts it, a density whose expected log is `h_t = -1 - ln(2 pi sqrt(det(S_t + Q)))`
 //! with `Q = 2 q tau I` the spread of straight-line motion over one correlation time (`q` the
-//! process noise, `tau` the correlation time). With means over the instants that count every
+//! process noise, `tau` the correlation time), less what its own earlier instants leave
+//! unknown: at the `j`-th later instant its position is known from the `j` before with the
+//! covariance `S_t / j` of their mean, so the instant's density is that of `S_t (1 + 1/j) + Q`,
+//! and the sum `Lambda = sum_j ln sqrt(det(S (1 + 1/j) + Q) / det(S + Q))` ([`own_prediction`];
+//! `ln k_eff` when `Q << S`) is added to `L`. With means over the instants that count every
 //! report's error once, worth `k_eff` independent instants
 //! ([`crate::association::combine::pair_instant_counts`]),
 //!
-//! `L = (mean l - ln mu) + (k_eff - 1) (mean l - mean h) + ln kappa + ln(1 - F_a) + ln(1 - F_b)`
+//! `L = (mean l - ln mu) + (k_eff - 1) (mean l - mean h) + Lambda + ln kappa + ln(1 - F_a) + ln(1 - F_b)`
 //!
 //! where `kappa = 1 / prod_s (1 - P_s)` is the prior odds of one merge under independent
 //! per-source coverage `P_s` (an object of a Poisson picture seen by every source with its own
@@ -369,6 +373,38 @@ pub fn track_breaks(
         .collect()
 }
 
+/// The part of `L` that the second track's own earlier instants leave unexplained under "two
+/// objects": at its `j`-th later independent instant the track's position is known from its
+/// `j` earlier ones with the covariance `S / j` of their mean, so the density of the instant
+/// is that of `S + S / j + Q`, not of `S + Q`. Summed over the `k - 1` later instants (the
+/// last one weighed by the fraction of `k`), `sum_j ln sqrt(det(S (1 + 1/j) + Q) / det(S + Q))`,
+/// from `det(x S + q I) / det S = x^2 + x a + b` with `a = q tr S / det S` and
+/// `b = q^2 / det S` (`Q = q I`; the means over the instants, as for `h`). For `Q << S` it is
+/// `ln k`: `k` fixes of a still emitter pin it `sqrt k` times more tightly than one, which the
+/// density of one fix against the next misses.
+fn own_prediction(k: f64, a: f64, b: f64) -> f64 {
+    if k.is_nan() || k <= 1.0 {
+        return 0.0;
+    }
+    let base = (1.0 + a + b).ln();
+    let term = |j: f64| {
+        let x = 1.0 + 1.0 / j;
+        0.5 * ((x * x + x * a + b).ln() - base)
+    };
+    let whole = (k - 1.0).floor();
+    let mut sum = 0.0;
+    let mut j = 1.0;
+    while j <= whole {
+        sum += term(j);
+        j += 1.0;
+    }
+    let rest = k - 1.0 - whole;
+    if rest > 0.0 {
+        sum += rest * term(whole + 1.0);
+    }
+    sum
+}
+
 /// A pair's `L` (see the module docs) and the terms `ln(1 - F)` of each of its tracks in it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PairEvidence {
@@ -408,13 +444,18 @@ pub fn log_likelihood_ratio(
         * (1.0 + qq * stat.mean_trace_over_det / c + qq * qq * stat.mean_inv_det / (c * c)).ln();
     // mean l - mean h = -m/(2c) + 1 + widen
     let fit = -0.5 * stat.mean_mg / c + 1.0 + widen;
+    let learn = own_prediction(
+        stat.evidence_k_eff,
+        qq * stat.mean_trace_over_det / c,
+        qq * qq * stat.mean_inv_det / (c * c),
+    );
     let mu = picture.density_at(stat.pos);
     let own = (
         picture.ln_not_false(model, sources.0, mu),
         picture.ln_not_false(model, sources.1, mu),
     );
     let prior = picture.ln_kappa + own.0 + own.1;
-    let l = (mean_l - mu.ln()) + (stat.evidence_k_eff - 1.0).max(0.0) * fit + prior;
+    let l = (mean_l - mu.ln()) + (stat.evidence_k_eff - 1.0).max(0.0) * fit + learn + prior;
     if l.is_nan() || own.0.is_nan() || own.1.is_nan() {
         none
     } else {
@@ -429,6 +470,140 @@ pub fn log_likelihood_ratio(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `own_prediction` is `sum_j ln sqrt(det(S (1 + 1/j) + Q) / det(S + Q))` over the later
+    /// instants: `ln k` when the prediction is exact (`Q = 0`), and the determinants' ratio
+    /// from the matrices themselves for an elongated, rotated `S` and `Q = 2 q tau I`.
+    #[test]
+    fn own_prediction_by_hand_and_by_determinants() {
+        for k in 1..12 {
+            let got = own_prediction(k as f64, 0.0, 0.0);
+            assert!((got - (k as f64).ln()).abs() < 1e-12, "k {k}: {got}");
+        }
+        // 2.5 instants: the first later one whole, the second by half
+        let want = 2f64.ln() + 0.5 * 1.5f64.ln();
+        assert!((own_prediction(2.5, 0.0, 0.0) - want).abs() < 1e-12);
+        let (s1, s2, th) = (4.0e6_f64, 9.0e4_f64, 0.6_f64);
+        let (c, sn) = (th.cos(), th.sin());
+        // S = rotation diag(s1, s2) rotation^T, entries written out
+        let (sxx, sxy, syy) = (
+            s1 * c * c + s2 * sn * sn,
+            (s1 - s2) * c * sn,
+            s1 * sn * sn + s2 * c * c,
+        );
+        let det = |x: f64, q: f64| (x * sxx + q) * (x * syy + q) - x * x * sxy * sxy;
+        let qq = 2.0 * 2.0 * 60.0 * 1000.0; // a large diffusion, to weigh the cross terms
+        let want: f64 = (1..7)
+            .map(|j| 0.5 * (det(1.0 + 1.0 / j as f64, qq) / det(1.0, qq)).ln())
+            .sum();
+        let (tr, dt) = (sxx + syy, det(1.0, 0.0));
+        let got = own_prediction(7.0, qq * tr / dt, qq * qq / dt);
+        assert!((got - want).abs() < 1e-10, "{got} {want}");
+    }
+
+    /// `L` of a still emitter's `k` fixes (covariance `R`, 9 x 1.5 km) against a still ship
+    /// with a state at each, against the exact marginal likelihood ratio: "one object" is
+    /// `prod_i N(z_i; s, R)`; "two objects" is the emitter anywhere at density `mu`,
+    /// `mu * integral prod_i N(z_i; x, R) dx`, the integral by brute-force quadrature on a grid.
+    /// The model replaces the scatter of the fixes about their mean, `W = sum_i (z_i -
+    /// mean)^T R^-1 (z_i - mean)`, by its expectation `2 (k - 1)` (its `h` has the expected
+    /// density of an instant): so the two agree when `W = 2 (k - 1)`, and differ by `(k - 1) -
+    /// W / 2` otherwise. Without the term of the emitter's own earlier fixes
+    /// (`own_prediction`) they differ by `ln k`.
+    #[test]
+    fn a_still_emitter_s_fixes_against_the_exact_marginal_likelihood() {
+        let (s1, s2) = (9000.0_f64 * 9000.0, 1500.0_f64 * 1500.0);
+        let inv = |d: [f64; 2]| d[0] * d[0] / s1 + d[1] * d[1] / s2;
+        let ln_n =
+            |d: [f64; 2]| -0.5 * inv(d) - (2.0 * std::f64::consts::PI).ln() - 0.5 * (s1 * s2).ln();
+        let mu = 3.0e-8;
+        let picture = Picture {
+            counts: Counts::default(),
+            density: Default::default(),
+            floor: mu,
+            mean: mu,
+            coverage: vec![0.5, 0.5],
+            ln_kappa: 0.0,
+            reference: 0,
+        };
+        let model = Model {
+            false_tracks: vec![0.0, 0.0],
+            ..Model::default()
+        };
+        let ship = [2000.0, -300.0];
+        // offsets about the fixes' mean, scaled so that W = 2 (k - 1) with `scale = 1`
+        let unit: [[f64; 2]; 5] = [
+            [1.0, 0.0],
+            [-1.0, 0.5],
+            [0.3, -1.0],
+            [-0.5, 0.2],
+            [0.2, 0.3],
+        ];
+        for k in [2usize, 3, 5] {
+            for scale in [1.0, 0.6, 1.7] {
+                let raw: Vec<[f64; 2]> = unit[..k].to_vec();
+                let m = [
+                    raw.iter().map(|u| u[0]).sum::<f64>() / k as f64,
+                    raw.iter().map(|u| u[1]).sum::<f64>() / k as f64,
+                ];
+                let cen: Vec<[f64; 2]> = raw
+                    .iter()
+                    .map(|u| [(u[0] - m[0]) * s1.sqrt(), (u[1] - m[1]) * s2.sqrt()])
+                    .collect();
+                let w0: f64 = cen.iter().map(|&d| inv(d)).sum();
+                let a = (2.0 * (k as f64 - 1.0) / w0).sqrt() * scale;
+                let fixes: Vec<[f64; 2]> = cen.iter().map(|d| [d[0] * a, d[1] * a]).collect();
+                let w: f64 = fixes.iter().map(|&d| inv(d)).sum();
+                // one object: every fix against the ship
+                let rel: Vec<[f64; 2]> = fixes
+                    .iter()
+                    .map(|d| [d[0] - ship[0], d[1] - ship[1]])
+                    .collect();
+                let one: f64 = rel.iter().map(|&d| ln_n(d)).sum();
+                // two objects: the emitter anywhere, by quadrature over +-8 sigma
+                let (n, half) = (801usize, 8.0);
+                let (hx, hy) = (
+                    2.0 * half * s1.sqrt() / (n - 1) as f64,
+                    2.0 * half * s2.sqrt() / (n - 1) as f64,
+                );
+                let mut logs = Vec::with_capacity(n * n);
+                for i in 0..n {
+                    for j in 0..n {
+                        let x = [
+                            -half * s1.sqrt() + i as f64 * hx,
+                            -half * s2.sqrt() + j as f64 * hy,
+                        ];
+                        logs.push(
+                            fixes
+                                .iter()
+                                .map(|f| ln_n([f[0] - x[0], f[1] - x[1]]))
+                                .sum::<f64>(),
+                        );
+                    }
+                }
+                let top = logs.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+                let integral =
+                    top + (logs.iter().map(|l| (l - top).exp()).sum::<f64>() * hx * hy).ln();
+                let exact = one - mu.ln() - integral;
+                let stat = PairStat {
+                    instants: k as u32,
+                    mean_mg: rel.iter().map(|&d| inv(d)).sum::<f64>() / k as f64,
+                    mean_ln_det: (s1 * s2).ln(),
+                    mean_trace_over_det: (s1 + s2) / (s1 * s2),
+                    mean_inv_det: 1.0 / (s1 * s2),
+                    evidence_k_eff: k as f64,
+                    pos: [0.0, 0.0],
+                    ..PairStat::EMPTY
+                };
+                let got = log_likelihood_ratio(&stat, 1.0, (0, 1), &picture, &model, 0.0, 60.0).llr;
+                let want = exact + (k as f64 - 1.0) - w / 2.0;
+                assert!(
+                    (got - want).abs() < 1e-6,
+                    "k {k}, W {w:.3}: L {got:.6}, exact {exact:.6} + (k - 1) - W / 2 = {want:.6}"
+                );
+            }
+        }
+    }
 
     /// `g_s` by hand: 40 reference tracks with completeness 0.95 stand for 40 objects (one
     /// false in twenty); source 1 (coverage 0.5, false share 0.1) has 60 tracks, 54 real, for
