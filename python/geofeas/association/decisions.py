@@ -68,9 +68,10 @@ class Decisions:
             rows = getattr(exc, "rows", None)
             if not rows:
                 raise
-            cols = [self.frame[c].tolist() for c in DECISION_COLUMNS[:3]]
+            track_a, track_b, decision = (self.frame[c] for c in DECISION_COLUMNS[:3])
             named = ", ".join(
-                f"{self.where(r)} ({cols[0][r]} {cols[2][r]} {cols[1][r]})" for r in rows
+                f"{self.where(r)} ({track_a.iat[r]} {decision.iat[r]} {track_b.iat[r]})"
+                for r in rows
             )
             err = GeofeasError(f"{self.name}: {named}: {exc.reason}")
             err.rows = list(rows)

@@ -440,15 +440,15 @@ pub fn log_likelihood_ratio(
     let mean_l = -0.5 * stat.mean_mg / c - two_pi_ln - c.ln() - 0.5 * stat.mean_ln_det;
     // mean h - mean l's normaliser part: ln det(cS + Q) - ln det(cS) = ln(1 + Q u / c + Q^2 v / c^2)
     let qq = 2.0 * q * tau;
-    let widen = 0.5
-        * (1.0 + qq * stat.mean_trace_over_det / c + qq * qq * stat.mean_inv_det / (c * c)).ln();
-    // mean l - mean h = -m/(2c) + 1 + widen
-    let fit = -0.5 * stat.mean_mg / c + 1.0 + widen;
-    let learn = own_prediction(
-        stat.evidence_k_eff,
+    // det(cS + Q) / det(cS) = 1 + a + b
+    let (a, b) = (
         qq * stat.mean_trace_over_det / c,
         qq * qq * stat.mean_inv_det / (c * c),
     );
+    let widen = 0.5 * (1.0 + a + b).ln();
+    // mean l - mean h = -m/(2c) + 1 + widen
+    let fit = -0.5 * stat.mean_mg / c + 1.0 + widen;
+    let learn = own_prediction(stat.evidence_k_eff, a, b);
     let mu = picture.density_at(stat.pos);
     let own = (
         picture.ln_not_false(model, sources.0, mu),

@@ -370,8 +370,6 @@ fn log_sum_exp(xs: impl Iterator<Item = f64> + Clone) -> f64 {
     m + xs.map(|x| (x - m).exp()).sum::<f64>().ln()
 }
 
-/// Builds the components of the candidate graph of `pairs` with log-likelihood ratios `llr`
-/// (pairs below [`L_CUT`] left out) and `decisions`, checking the decisions.
 /// Whether operator `decisions` on `tracks` (only their sources and spans are read) are
 /// possible together: every decision names two distinct tracks; no "different" decision is
 /// joined by a chain of "same" ones; no chain of "same" decisions makes one object of two
@@ -463,6 +461,8 @@ fn same_path(decisions: &[Decision], a: u32, b: u32) -> Vec<usize> {
     rows
 }
 
+/// Builds the components of the candidate graph of `pairs` with log-likelihood ratios `llr`
+/// (pairs below [`L_CUT`] left out) and `decisions`, checking the decisions.
 fn components(
     tracks: &[Track],
     cover: &TimeCover,
@@ -2316,55 +2316,34 @@ mod tests {
         let pairs = [(0, 1), (0, 2), (1, 2), (1, 3)];
         let llr = [1.0; 4];
         let d = |a, b, same, row| Decision { a, b, same, row };
-        let err = posterior(
-            &tracks,
-            &whole(&tracks),
-            &pairs,
-            &own(&llr),
-            &[d(0, 1, true, 4), d(1, 2, true, 7), d(0, 2, false, 9)],
-            &Inference::default(),
-            (0.01, 0.99),
-        )
-        .unwrap_err();
-        assert_eq!(
-            err.rows().map(|r| r.0.to_vec()),
-            Some(vec![4, 7, 9]),
-            "{err}"
-        );
-        assert!(err.to_string().contains("different"), "{err}");
+        let refused = |decisions: &[Decision]| {
+            let err = posterior(
+                &tracks,
+                &whole(&tracks),
+                &pairs,
+                &own(&llr),
+                decisions,
+                &Inference::default(),
+                (0.01, 0.99),
+            )
+            .unwrap_err();
+            let rows = err.rows().map(|r| r.0.to_vec());
+            (rows, err.to_string())
+        };
+        let (rows, err) = refused(&[d(0, 1, true, 4), d(1, 2, true, 7), d(0, 2, false, 9)]);
+        assert_eq!(rows, Some(vec![4, 7, 9]), "{err}");
+        assert!(err.contains("different"), "{err}");
         // only the chain of decisions that joins the two tracks is named: row 5 is another's
-        let err = posterior(
-            &tracks,
-            &whole(&tracks),
-            &pairs,
-            &own(&llr),
-            &[
-                d(1, 2, true, 7),
-                d(1, 3, true, 5),
-                d(0, 1, true, 4),
-                d(0, 2, false, 9),
-            ],
-            &Inference::default(),
-            (0.01, 0.99),
-        )
-        .unwrap_err();
-        assert_eq!(
-            err.rows().map(|r| r.0.to_vec()),
-            Some(vec![4, 7, 9]),
-            "{err}"
-        );
+        let (rows, err) = refused(&[
+            d(1, 2, true, 7),
+            d(1, 3, true, 5),
+            d(0, 1, true, 4),
+            d(0, 2, false, 9),
+        ]);
+        assert_eq!(rows, Some(vec![4, 7, 9]), "{err}");
         // two AIS tracks at overlapping times declared one object
-        let err = posterior(
-            &tracks,
-            &whole(&tracks),
-            &pairs,
-            &own(&llr),
-            &[d(1, 0, true, 2), d(1, 3, true, 3)],
-            &Inference::default(),
-            (0.01, 0.99),
-        )
-        .unwrap_err()
-        .to_string();
+        let (rows, err) = refused(&[d(1, 0, true, 2), d(1, 3, true, 3)]);
+        assert_eq!(rows, Some(vec![2, 3]), "{err}");
         assert!(
             err.contains("rows 2, 3") && err.contains("one source"),
             "{err}"
