@@ -58,7 +58,7 @@ def mix_row(recording: str, seed: int, mix: str) -> dict[str, object]:
         "wrong": int((match & ~y).sum()),
         "lost": int((reject & y).sum()),
         "lost_predicted": round(float(p[reject].sum()), 1),
-        "lost_pct": round(100.0 * (reject & y).sum() / n_true, 2),
+        "lost_pct": round(float(100.0 * (reject & y).sum() / n_true), 2),
         "load": round(float((cls == "borderline").sum()) / n_true, 2),
         "ece": round(reliability(p, y)[1], 4),
         "log_score": round(float(np.where(y, np.log(pc), np.log(1 - pc)).sum()), 1),
