@@ -1,7 +1,7 @@
 """A berth of moored ships, built from scratch: where the triage's tail is and is not calibrated.
 
     python scripts/association_berth.py [--ships 10] [--spacing 10] [--ais-period 360] \
-        [--repeats 20]
+        [--repeats 20] [--no-radar]
 
 Planar and noise-controlled: ``--ships`` still ships on a line, ``--spacing`` metres apart, for
 30 minutes. Each ship has
@@ -33,8 +33,11 @@ import pandas as pd
 import geofeas
 
 
-def berth(rng: np.random.Generator, ships: int, spacing: float, ais_period: float) -> pd.DataFrame:
-    """One picture of the berth (see the module docs)."""
+def berth(
+    rng: np.random.Generator, ships: int, spacing: float, ais_period: float, radar: bool = True
+) -> pd.DataFrame:
+    """One picture of the berth (see the module docs); ``radar=False`` leaves the radar out
+    (its errors are still drawn, so the other tracks do not change)."""
     frames = []
     duration = 1800.0
 
@@ -61,7 +64,8 @@ def berth(rng: np.random.Generator, ships: int, spacing: float, ais_period: floa
         t = np.arange(0.0, duration, 3.0)
         t = t[rng.random(len(t)) < 0.9]
         ex, ey = rng.normal(0, 16, len(t)), rng.normal(0, 20, len(t))
-        track(f"radar-{k}", "radar", t, x0 + ex, y0 + ey, (32.0, 40.0, np.pi / 2))
+        if radar:
+            track(f"radar-{k}", "radar", t, x0 + ex, y0 + ey, (32.0, 40.0, np.pi / 2))
         t = np.arange(300.0 + rng.uniform(0, 10), 1500.0, 10.0)
         t = t[rng.random(len(t)) < 0.8]
         for j, ts in enumerate(np.array_split(t, 3)):
@@ -76,11 +80,14 @@ def main() -> None:
     ap.add_argument("--spacing", type=float, default=10.0, help="metres between ships")
     ap.add_argument("--ais-period", type=float, default=360.0, help="seconds between AIS reports")
     ap.add_argument("--repeats", type=int, default=20)
+    ap.add_argument("--no-radar", action="store_true", help="AIS and the aircraft only")
     args = ap.parse_args()
     tally: dict[str, dict[str, float]] = defaultdict(lambda: defaultdict(float))
     for rep in range(args.repeats):
         rng = np.random.default_rng(rep)
-        pairs = geofeas.associate(berth(rng, args.ships, args.spacing, args.ais_period)).pairs
+        pairs = geofeas.associate(
+            berth(rng, args.ships, args.spacing, args.ais_period, radar=not args.no_radar)
+        ).pairs
         names = [
             (a.split("-"), b.split("-")) for a, b in zip(pairs.track_a, pairs.track_b, strict=True)
         ]
