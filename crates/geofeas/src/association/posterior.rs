@@ -15,12 +15,14 @@
 //! precise to the least and joins each to a member already in it that it has a candidate pair
 //! with: the product of the Gaussian densities of one instant factorises exactly that way when
 //! the reference is much more precise than the joined track, as it is for a radar, aircraft or
-//! HF DF track joined to an AIS track, and the evidence of each track is counted once. Among the
-//! members at least [`ANCHOR_PRECISION`] times more precise than the joined track, the one
-//! whose pair with it has the most independent instants is taken (the pair that covers most of
-//! the joined track's time: an aircraft track that met a moored ship's AIS track, whose
-//! reports were further apart than `max_gap`, at one instant and its radar track at 140 was
-//! joined on that one instant's evidence); without one, the most precise member with a pair. Each
+//! HF DF track joined to an AIS track, and the evidence of each track is counted once. Over the
+//! members at least [`ANCHOR_PRECISION`] times more precise than the joined track, the track
+//! joins through the mean of their pairs' evidence weighed by each pair's independent
+//! instants (a pair that met the joined track at one instant, as an aircraft track meets a
+//! moored ship's AIS track whose reports are further apart than `max_gap`, weighs little
+//! beside the ship's radar track that saw it at 140; and two references that saw it about as
+//! long count about equally, instead of the choice switching between them on a fraction of an
+//! instant); without one, the most precise member with a pair. Each
 //! further track of a source the object already holds adds that source's break odds
 //! ([`Track::further`], `ln(g_s (1 - P_s) / P_s)`, [`crate::association::evidence::track_breaks`]):
 //! a pair's `L` weighs a merge of two objects seen by different sources, and two tracks of one
@@ -292,27 +294,36 @@ impl Component {
         })
     }
 
-    /// `(L, k_y)` of the pair through which `x` joins the tree of `attached` members: among
-    /// the members at least [`ANCHOR_PRECISION`] times more precise than `x` that have a pair
-    /// with it, the one whose pair has the most independent instants (the first, the most
-    /// precise, on a tie); without such a member, the most precise member with a pair.
+    /// `(L, k_y)` through which `x` joins the tree of `attached` members: over the members at
+    /// least [`ANCHOR_PRECISION`] times more precise than `x` that have a pair with it, the
+    /// means of their pairs' `L` and of their own terms `k_y`, each pair weighed by its
+    /// independent instants; without such a member, the most precise member with a pair.
+    /// Each of those pairs measures `x` against the object's path through another reference;
+    /// one that met `x` at one instant weighs little beside one that saw it all along, and
+    /// two references that saw it about as long count about equally, where taking the one
+    /// with the most instants switched between them on a fraction of an instant.
     fn anchor(&self, x: u32, attached: &[u32]) -> Option<(f64, f64)> {
         let sx = self.info[x as usize].spread;
         let mut first = None;
-        let mut best: Option<(f64, f64)> = None;
-        let mut best_k = f64::NEG_INFINITY;
+        let (mut sum_w, mut sum_l, mut sum_k) = (0.0, 0.0, 0.0);
         for &y in attached {
             if let Some((l, k_y, k_eff)) = self.edge_parts(x, y) {
                 if first.is_none() {
                     first = Some((l, k_y));
                 }
-                if self.info[y as usize].spread * ANCHOR_PRECISION <= sx && k_eff > best_k {
-                    best = Some((l, k_y));
-                    best_k = k_eff;
+                if self.info[y as usize].spread * ANCHOR_PRECISION <= sx {
+                    let w = k_eff.max(f64::MIN_POSITIVE);
+                    sum_w += w;
+                    sum_l += w * l;
+                    sum_k += w * k_y;
                 }
             }
         }
-        best.or(first)
+        if sum_w > 0.0 {
+            Some((sum_l / sum_w, sum_k / sum_w))
+        } else {
+            first
+        }
     }
 
     /// Log-weight of an object holding the tracks `members` (assumed feasible); `-inf` if the
@@ -2085,11 +2096,11 @@ mod tests {
     }
 
     /// An aircraft track X with pairs to an AIS track A (one independent instant) and a radar
-    /// track R (fifty): in the object of all three, X joins through R, the member much more
-    /// precise than X whose pair saw X longest; when R is not much more precise than X, through
-    /// A, the most precise.
+    /// track R (fifty): in the object of all three, X joins through the mean of its two pairs
+    /// weighed by their independent instants, so R's, the pair that saw X longest, counts
+    /// fifty times A's; when R is not much more precise than X, through A alone.
     #[test]
-    fn a_track_joins_through_the_precise_member_that_saw_it_longest() {
+    fn a_track_joins_through_the_precise_members_weighed_by_what_they_saw() {
         let (c, a, b) = (8.0_f64, 1.0_f64, 4.0_f64);
         let ev = |llr: f64, k_eff: f64| PairEvidence {
             llr,
@@ -2098,7 +2109,8 @@ mod tests {
         };
         let evidence = [ev(c, 100.0), ev(a, 1.0), ev(b, 50.0)];
         let pairs = [(0, 1), (0, 2), (1, 2)];
-        for (r_spread, through) in [(3.0, b), (6.0, a)] {
+        // R precise enough: the two pairs' mean by independent instants; else A's alone
+        for (r_spread, through) in [(3.0, (a + 50.0 * b) / 51.0), (6.0, a)] {
             let tracks = [
                 tr(0, 0.0, 100.0, 1.0),
                 tr(1, 0.0, 100.0, r_spread),
@@ -2117,6 +2129,38 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Two references that saw an aircraft track X about as long (independent instants 50 and
+    /// 50 +- 0.01) but with `L` two apart: how X joins their object does not jump when one
+    /// overtakes the other. With the reference of the most instants taken alone, `p_same` of
+    /// A and X moved from the object's weight with `L = 2` to that with `L = 4` on a hundredth
+    /// of an instant (New York Harbor: aircraft tracks between moored ships whose AIS and radar
+    /// pairs saw them about equally long went to the ship where the switch fell their way).
+    #[test]
+    fn joining_through_two_references_is_continuous_in_their_instants() {
+        let (c, a, b) = (8.0_f64, 2.0_f64, 4.0_f64);
+        let ev = |llr: f64, k_eff: f64| PairEvidence {
+            llr,
+            own: (0.0, 0.0),
+            k_eff,
+        };
+        let tracks = [
+            tr(0, 0.0, 100.0, 1.0),
+            tr(1, 0.0, 100.0, 3.0),
+            tr(2, 0.0, 100.0, 10.0),
+        ];
+        let pairs = [(0, 1), (0, 2), (1, 2)];
+        let p_ax = |eps: f64| {
+            let evidence = [ev(c, 100.0), ev(a, 50.0 + eps), ev(b, 50.0 - eps)];
+            with_evidence(&tracks, &whole(&tracks), &pairs, &evidence, &[]).p_same[1]
+        };
+        let (below, above) = (p_ax(-0.01), p_ax(0.01));
+        assert!((below - above).abs() < 1e-3, "{below} {above}");
+        // and it is the mean of the two: the object weighs exp(c + (a + b) / 2)
+        let w = [1.0, c.exp(), a.exp(), b.exp(), (c + 0.5 * (a + b)).exp()];
+        let z: f64 = w.iter().sum();
+        assert!((p_ax(0.0) - (w[2] + w[4]) / z).abs() < 1e-12);
     }
 
     /// An AIS track over two radar tracks, one after the other: the object of all three holds
