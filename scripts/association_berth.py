@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+from association_mixes import log_score  # scripts/ is on the path of `python scripts/...`
 
 import geofeas
 
@@ -95,7 +96,6 @@ def main() -> None:
         kind = np.array([f"{a[0]}-{b[0]}" for a, b in names])
         cls = pairs["class"].to_numpy()
         p = pairs["p_same"].to_numpy()
-        pc = np.clip(p, 1e-6, 1 - 1e-6)
         for kd in np.unique(kind):
             s = kind == kd
             t = tally[kd]
@@ -104,7 +104,7 @@ def main() -> None:
             t["predicted wrong"] += (1 - p[s & (cls == "match")]).sum()
             t["lost"] += (y & s & (cls == "non-match")).sum()
             t["predicted lost"] += p[s & (cls == "non-match")].sum()
-            t["log score"] += np.where(y[s], np.log(pc[s]), np.log(1 - pc[s])).sum()
+            t["log score"] += log_score(p[s], y[s])
     table = pd.DataFrame(tally).T.round(2)
     print(
         f"{args.ships} ships {args.spacing:g} m apart, AIS every {args.ais_period:g} s, "

@@ -39,6 +39,13 @@ MIXES = (
 )
 
 
+def log_score(p: np.ndarray, y: np.ndarray) -> float:
+    """``sum ln p`` over the true pairs and ``ln (1 - p)`` over the others, ``p`` clipped to
+    ``[1e-6, 1 - 1e-6]``."""
+    pc = np.clip(p, 1e-6, 1 - 1e-6)
+    return float(np.where(y, np.log(pc), np.log(1 - pc)).sum())
+
+
 def mix_row(recording: str, seed: int, mix: str) -> dict[str, object]:
     """The measures of one mix (see the module docs)."""
     sc = simulate(read_ais(bundled(recording)), seed=seed, sensors=tuple(mix.split(",")))
@@ -50,7 +57,6 @@ def mix_row(recording: str, seed: int, mix: str) -> dict[str, object]:
     cls = pairs["class"].to_numpy()
     p = pairs["p_same"].to_numpy()
     match, reject = cls == "match", cls == "non-match"
-    pc = np.clip(p, 1e-6, 1 - 1e-6)
     return {
         "mix": mix,
         "true_pairs": n_true,
@@ -61,7 +67,7 @@ def mix_row(recording: str, seed: int, mix: str) -> dict[str, object]:
         "lost_pct": round(float(100.0 * (reject & y).sum() / n_true), 2),
         "load": round(float((cls == "borderline").sum()) / n_true, 2),
         "ece": round(reliability(p, y)[1], 4),
-        "log_score": round(float(np.where(y, np.log(pc), np.log(1 - pc)).sum()), 1),
+        "log_score": round(log_score(p, y), 1),
         "max_std_error": round(float(pairs["std_error"].max()), 3) if len(pairs) else 0.0,
     }
 

@@ -2095,6 +2095,15 @@ mod tests {
         }
     }
 
+    /// A pair's evidence with log-likelihood ratio `llr` worth `k_eff` independent instants.
+    fn ev(llr: f64, k_eff: f64) -> PairEvidence {
+        PairEvidence {
+            llr,
+            own: (0.0, 0.0),
+            k_eff,
+        }
+    }
+
     /// An aircraft track X with pairs to an AIS track A (one independent instant) and a radar
     /// track R (fifty): in the object of all three, X joins through the mean of its two pairs
     /// weighed by their independent instants, so R's, the pair that saw X longest, counts
@@ -2102,11 +2111,6 @@ mod tests {
     #[test]
     fn a_track_joins_through_the_precise_members_weighed_by_what_they_saw() {
         let (c, a, b) = (8.0_f64, 1.0_f64, 4.0_f64);
-        let ev = |llr: f64, k_eff: f64| PairEvidence {
-            llr,
-            own: (0.0, 0.0),
-            k_eff,
-        };
         let evidence = [ev(c, 100.0), ev(a, 1.0), ev(b, 50.0)];
         let pairs = [(0, 1), (0, 2), (1, 2)];
         // R precise enough: the two pairs' mean by independent instants; else A's alone
@@ -2140,11 +2144,6 @@ mod tests {
     #[test]
     fn joining_through_two_references_is_continuous_in_their_instants() {
         let (c, a, b) = (8.0_f64, 2.0_f64, 4.0_f64);
-        let ev = |llr: f64, k_eff: f64| PairEvidence {
-            llr,
-            own: (0.0, 0.0),
-            k_eff,
-        };
         let tracks = [
             tr(0, 0.0, 100.0, 1.0),
             tr(1, 0.0, 100.0, 3.0),
