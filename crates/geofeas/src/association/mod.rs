@@ -221,8 +221,9 @@ pub struct PairInstants {
     /// The Gaussian view of every instant: `d^T S^-1 d`, `ln det S`, `tr S / det S`, `1 / det S`
     /// with `S = R_a + R_b` (before inflation).
     pub gauss: Vec<[f64; 4]>,
-    /// Position of the less precise track (larger covariance trace; `a` on a tie) at the
-    /// middle instant: where the density of objects is looked up.
+    /// Where the density of objects is looked up: the mean position of the reports of the
+    /// less precise track (larger covariance trace at the middle instant; `a` on a tie), the
+    /// same point for every pair of that track ([`centroid`]).
     pub pos: [f64; 2],
     /// Track `a`'s share of the summed covariance traces `sum tr R_a / sum (tr R_a + tr R_b)`.
     pub share_a: f64,
@@ -250,6 +251,36 @@ fn gaussian_of(ca: [f64; 3], d: [f64; 2], cb: [f64; 3]) -> [f64; 4] {
     [m.max(0.0), det.ln(), (sxx + syy) / det, 1.0 / det]
 }
 
+/// The mean position of the reports of `track`: `(x, y)` metres, or `(lat, lon)` degrees with
+/// the longitudes taken about the first report's (a track across the antimeridian averages to
+/// a point on it, not to the far side of the Earth), in `[-180, 180)`.
+///
+/// The density of objects of a pair is read here ([`PairInstants::pos`]). Reading it where the
+/// track is at the pair's middle instant made it differ between the pairs of one track: an HF
+/// DF track's position at an instant is one fix, anywhere in a 36 km ellipse, and the density
+/// at two fixes differs severalfold, so the ships of one harbour got `p_same` three times
+/// apart that their fits could not tell apart.
+pub fn centroid(r: &Reports, track: usize) -> [f64; 2] {
+    let st = &r.state[r.range(track)];
+    let Some(first) = st.first() else {
+        return [0.0; 2];
+    };
+    let n = st.len() as f64;
+    match r.coords {
+        Coords::Planar => [
+            st.iter().map(|s| s.pos[0]).sum::<f64>() / n,
+            st.iter().map(|s| s.pos[1]).sum::<f64>() / n,
+        ],
+        Coords::Geographic => {
+            let wrap = |d: f64| (d + 180.0).rem_euclid(360.0) - 180.0;
+            let lon0 = first.pos[1];
+            let lat = st.iter().map(|s| s.pos[0]).sum::<f64>() / n;
+            let dlon = st.iter().map(|s| wrap(s.pos[1] - lon0)).sum::<f64>() / n;
+            [lat, wrap(lon0 + dlon)]
+        }
+    }
+}
+
 /// Aligns and scores the instants of tracks `a`, `b`.
 pub fn pair_instants(r: &Reports, a: usize, b: usize, o: &Options) -> PairInstants {
     let inst = align::common_instants(r, a, b, &o.align);
@@ -259,12 +290,13 @@ pub fn pair_instants(r: &Reports, a: usize, b: usize, o: &Options) -> PairInstan
         m: Vec::with_capacity(inst.len()),
         gauss: Vec::with_capacity(inst.len()),
         // where the less precise track is: under "two objects" it is the object whose
-        // position the picture's density accounts for (whichever of the two is named first)
+        // position the picture's density accounts for (whichever of the two is named first);
+        // read at a point of that track alone, so that its pairs differ only in their fits
         pos: inst.get(inst.len() / 2).map_or([0.0; 2], |i| {
             if i.a.cov[0] + i.a.cov[2] >= i.b.cov[0] + i.b.cov[2] {
-                i.a.pos
+                centroid(r, a)
             } else {
-                i.b.pos
+                centroid(r, b)
             }
         }),
         share_a: 0.5,
@@ -721,6 +753,56 @@ mod tests {
         // distinct questions: (0 1), (0 3), (5 1), (5 3); round 0: (0 1), (5 3); round 1:
         // (0 3), (5 1); then the repeats (0 2) and (0 4) in rounds of their own
         assert_eq!(got, vec![0, 5, 2, 4, 1, 3]);
+    }
+
+    /// An HF DF track (track 0: fixes at 0, 1000 and 2000 s, at x = -9, 3 and 9 km, 20 x 4 km
+    /// AOUs) and two still ships near it: ship 1's AIS covers all three fixes, ship 2's only
+    /// the last two, so the middle instants of the two pairs are different fixes (3 and 9 km).
+    /// Both pairs read the density at the fixes' mean, x = 1 km; read at the middle instant,
+    /// they read it 6 km apart, and a harbour's ships got `p_same` several times apart that
+    /// their fits could not tell apart.
+    #[test]
+    fn every_pair_of_a_track_reads_the_density_at_the_same_point() {
+        let mut track = vec![];
+        let mut time = vec![];
+        let mut aou = vec![];
+        for (t, x) in [(0.0, -9000.0), (1000.0, 3000.0), (2000.0, 9000.0)] {
+            track.push(0);
+            time.push(t);
+            aou.push([x, 0.0, 20_000.0, 4_000.0, 0.0]);
+        }
+        for (k, (t0, x)) in [(1, (0.0, 0.0)), (2, (1000.0, 50.0))] {
+            for j in 0..=(2000.0 - t0) as usize / 100 {
+                track.push(k);
+                time.push(t0 + 100.0 * j as f64);
+                aou.push([x, 0.0, 20.0, 20.0, 0.0]);
+            }
+        }
+        let source: Vec<u32> = track.iter().map(|&t| u32::from(t > 0)).collect();
+        let r = Reports::new(Coords::Planar, 3, &track, &source, &time, &aou).unwrap();
+        let o = Options::default();
+        let (s1, s2) = (pair_stat(&r, 0, 1, &o), pair_stat(&r, 0, 2, &o));
+        assert_eq!((s1.instants, s2.instants), (3, 2));
+        for s in [s1.pos, s2.pos] {
+            assert!((s[0] - 1000.0).abs() < 1e-9 && s[1].abs() < 1e-9, "{s:?}");
+        }
+    }
+
+    /// The mean position of a track whose reports straddle the antimeridian lies on it: lat
+    /// (10 + 12) / 2 = 11, lon 179.8 + (0 + 0.6) / 2 = 180.1, i.e. -179.9 (a plain mean of the
+    /// longitudes, 0.1, is on the far side of the Earth).
+    #[test]
+    fn a_track_across_the_antimeridian_has_its_mean_on_it() {
+        let aou = [
+            [10.0, 179.8, 50.0, 50.0, 0.0],
+            [12.0, -179.6, 50.0, 50.0, 0.0],
+        ];
+        let r = Reports::new(Coords::Geographic, 1, &[0, 0], &[0, 0], &[0.0, 10.0], &aou).unwrap();
+        let c = centroid(&r, 0);
+        assert!(
+            (c[0] - 11.0).abs() < 1e-9 && (c[1] + 179.9).abs() < 1e-9,
+            "{c:?}"
+        );
     }
 
     /// A vague track's fixes weigh once each in the evidence, however many instants of its
