@@ -746,9 +746,12 @@ struct Chain<'a> {
     cell_w: Vec<f64>,
     free: Vec<u32>,
     scratch: Vec<u32>,
-    /// Buffers of [`Chain::redraw_pair`]: its options and the tracks of an object it weighs.
+    /// Buffers of [`Chain::redraw_pair`]: its options, the tracks of an object it weighs, the
+    /// blocks it may draw from and the blocks it holds in each of the two objects.
     pair_options: Vec<(u32, f64)>,
     pair_tracks: Vec<u32>,
+    pair_others: Vec<u32>,
+    pair_held: [Vec<u32>; 2],
     /// Inverse temperature: the chain samples the posterior raised to `beta`.
     beta: f64,
     /// Log-weight of the current partition.
@@ -761,8 +764,8 @@ const TEMPERATURES: [f64; 4] = [1.0, 0.5, 0.25, 0.12];
 /// The most blocks a swap move displaces.
 const MAX_SWAP: usize = 3;
 
-/// The most blocks two objects may hold between them for [`Chain::redraw_pair`] (it weighs
-/// `2^(n - 2) + 1` groupings of `n` blocks).
+/// The most blocks [`Chain::redraw_pair`] redraws (it weighs `2^(n - 2) + 1` groupings of `n`
+/// blocks); two objects that hold more between them have the others held where they are.
 const PAIR_BLOCKS: usize = 12;
 
 /// A move of one block.
@@ -794,6 +797,8 @@ impl<'a> Chain<'a> {
             scratch: Vec::new(),
             pair_options: Vec::new(),
             pair_tracks: Vec::new(),
+            pair_others: Vec::new(),
+            pair_held: [Vec::new(), Vec::new()],
             beta: 1.0,
             logw: 0.0,
         };
@@ -970,33 +975,62 @@ impl<'a> Chain<'a> {
     /// the pair `(b1, b2)` are the same from every state the update can reach, so it samples
     /// the posterior restricted to that set exactly: two ships exchange the tracks of an
     /// aircraft that passed between them, which block moves can only do through a state in
-    /// which each holds the other's radar track. Objects of more than [`PAIR_BLOCKS`] blocks
-    /// between them are left alone.
+    /// which each holds the other's radar track.
+    ///
+    /// Two objects of more than [`PAIR_BLOCKS`] blocks between them (a ship's AIS track, its
+    /// radar fragments and a patrol aircraft's passes) redraw `b1`, `b2` and `PAIR_BLOCKS - 2`
+    /// of their other blocks drawn uniformly, the others held in their objects, between the
+    /// two objects only. The union of the two objects, and so the draw, is the same from every
+    /// state the update reaches, and the held blocks stay where they are: the update samples
+    /// the posterior restricted to the drawn blocks' ways exactly. Without it, two moored
+    /// ships' aircraft passes that one chain put on the wrong ships (Solent, seed 0) stayed
+    /// there: no move of one block leaves the state, and `p_same` was 0.75 where the other
+    /// chains gave 1.000. Objects of more blocks that share one are left alone (with blocks
+    /// held, the one object could not be told from the two).
     fn redraw_pair(&mut self, b1: u32, b2: u32, rng: &mut Xoshiro256PlusPlus) {
         let comp = self.comp;
         let (c1, c2) = (self.label[b1 as usize], self.label[b2 as usize]);
-        let n = self.cell_blocks[c1 as usize].len()
-            + if c1 == c2 {
-                0
-            } else {
-                self.cell_blocks[c2 as usize].len()
-            };
-        if n > PAIR_BLOCKS {
+        let cells = [c1, c2];
+        let cells = &cells[..if c1 == c2 { 1 } else { 2 }];
+        let total: usize = cells
+            .iter()
+            .map(|&c| self.cell_blocks[c as usize].len())
+            .sum();
+        if total > PAIR_BLOCKS && c1 == c2 {
             return;
         }
         // b1 first, b2 second, then the others: bit k of a split puts set[k + 2] with b2
+        let mut others = std::mem::take(&mut self.pair_others);
+        others.clear();
+        for &c in cells {
+            others.extend(
+                self.cell_blocks[c as usize]
+                    .iter()
+                    .filter(|&&k| k != b1 && k != b2),
+            );
+        }
+        // a draw that depends on the union of the two objects alone: the blocks in order,
+        // then the first PAIR_BLOCKS - 2 of a partial Fisher-Yates shuffle
+        let mut held = std::mem::take(&mut self.pair_held);
+        held[0].clear();
+        held[1].clear();
+        if total > PAIR_BLOCKS {
+            others.sort_unstable();
+            for i in 0..PAIR_BLOCKS - 2 {
+                let j = i
+                    + ((unit(rng) * (others.len() - i) as f64) as usize).min(others.len() - i - 1);
+                others.swap(i, j);
+            }
+            for &k in &others[PAIR_BLOCKS - 2..] {
+                held[usize::from(self.label[k as usize] != c1)].push(k);
+            }
+            others.truncate(PAIR_BLOCKS - 2);
+        }
         let mut set = [0u32; PAIR_BLOCKS];
         (set[0], set[1]) = (b1, b2);
-        let mut len = 2;
-        let cells = [c1, c2];
-        for &c in &cells[..if c1 == c2 { 1 } else { 2 }] {
-            for &k in &self.cell_blocks[c as usize] {
-                if k != b1 && k != b2 {
-                    set[len] = k;
-                    len += 1;
-                }
-            }
-        }
+        set[2..2 + others.len()].copy_from_slice(&others);
+        let n = 2 + others.len();
+        self.pair_others = others;
         let set = &set[..n];
         let mut clash = [0u32; PAIR_BLOCKS];
         for i in 0..n {
@@ -1008,14 +1042,31 @@ impl<'a> Chain<'a> {
                 }
             }
         }
+        // the drawn blocks that conflict with a block held with b1 (bit i) or with b2
+        let mut held_clash = [0u32; 2];
+        for (g, blocks) in held.iter().enumerate() {
+            for (i, &k) in set.iter().enumerate() {
+                let x = &comp.blocks[k as usize];
+                if blocks
+                    .iter()
+                    .any(|&h| !comp.compatible(x, &comp.blocks[h as usize]))
+                {
+                    held_clash[g] |= 1 << i;
+                }
+            }
+        }
         let feasible = |bits: u32| (0..n).all(|i| bits >> i & 1 == 0 || clash[i] & bits == 0);
         let mut tracks = std::mem::take(&mut self.pair_tracks);
-        let mut weight = |ch: &mut Self, bits: u32| -> f64 {
+        // the object of the drawn blocks `bits` and of the blocks held in it
+        let mut weight = |ch: &mut Self, bits: u32, held: &[u32]| -> f64 {
             tracks.clear();
             for (i, &k) in set.iter().enumerate() {
                 if bits >> i & 1 == 1 {
                     tracks.extend_from_slice(&comp.blocks[k as usize]);
                 }
+            }
+            for &k in held {
+                tracks.extend_from_slice(&comp.blocks[k as usize]);
             }
             ch.weight_of(&tracks)
         };
@@ -1023,8 +1074,9 @@ impl<'a> Chain<'a> {
         // the options: the bits of b2's object (0: one object of all), and their log-weight
         let mut options = std::mem::take(&mut self.pair_options);
         options.clear();
-        if feasible(all) {
-            let w = weight(self, all);
+        let holds = !held[0].is_empty() || !held[1].is_empty();
+        if !holds && feasible(all) {
+            let w = weight(self, all, &[]);
             if w > f64::NEG_INFINITY {
                 options.push((0, w));
             }
@@ -1032,14 +1084,18 @@ impl<'a> Chain<'a> {
         for split in 0..1u32 << (n - 2) {
             let with_b2 = 2 | split << 2;
             let with_b1 = all & !with_b2;
-            if !feasible(with_b1) || !feasible(with_b2) {
+            if !feasible(with_b1)
+                || !feasible(with_b2)
+                || held_clash[0] & with_b1 != 0
+                || held_clash[1] & with_b2 != 0
+            {
                 continue;
             }
-            let w1 = weight(self, with_b1);
+            let w1 = weight(self, with_b1, &held[0]);
             if w1 == f64::NEG_INFINITY {
                 continue;
             }
-            let w2 = weight(self, with_b2);
+            let w2 = weight(self, with_b2, &held[1]);
             if w2 > f64::NEG_INFINITY {
                 options.push((with_b2, w1 + w2));
             }
@@ -1060,6 +1116,7 @@ impl<'a> Chain<'a> {
         // the buffers back to the chain for the next update
         self.pair_options = options;
         self.pair_tracks = tracks;
+        self.pair_held = held;
         // b1's blocks stay in (or go to) c1; b2's go to c2, or to a free cell if c1 == c2
         let to = if with_b2 == 0 {
             c1
@@ -1995,6 +2052,79 @@ mod tests {
                 "pair {k}: {} +- {}",
                 p.p_same[k],
                 p.std_error[k]
+            );
+        }
+    }
+
+    /// Two moored ships, each an AIS track and six short tracks of six more sources (16 blocks
+    /// between them, beyond the two-object update's [`PAIR_BLOCKS`]), and a patrol aircraft's
+    /// two passes, which belong together (`further`: a break of one aircraft track costs
+    /// e^-200) and fit ship 0 by e^1 better each. Exactly: both passes on ship 0 with
+    /// probability e^2 / (1 + e^2) = 0.881. No move of one block takes a pass across (it
+    /// would leave the other behind), so a chain that starts with them on ship 1 stays there;
+    /// the update that redraws ten of the two ships' blocks, the others held, takes both across.
+    #[test]
+    fn two_ships_beyond_the_two_object_update_exchange_their_passes() {
+        let mut tracks = Vec::new();
+        let mut pairs = Vec::new();
+        let mut llr = Vec::new();
+        for _ in 0..2 {
+            let root = tracks.len() as u32;
+            tracks.push(tr(0, 0.0, 70.0, 0.1));
+            // at times of their own: two tracks with a common instant and no pair between
+            // them are two objects
+            for source in 2..8 {
+                pairs.push((root, tracks.len() as u32));
+                llr.push(200.0);
+                let t = 40.0 + 5.0 * f64::from(source);
+                tracks.push(tr(source, t, t + 4.0, 0.5));
+            }
+        }
+        for (start, end) in [(0.0, 10.0), (20.0, 30.0)] {
+            let mut pass = tr(1, start, end, 2.0);
+            pass.further = 200.0;
+            for (root, l) in [(0, 101.0), (7, 100.0)] {
+                pairs.push((root, tracks.len() as u32));
+                llr.push(l);
+            }
+            tracks.push(pass);
+        }
+        let run = |inf: &Inference| {
+            posterior(
+                &tracks,
+                &whole(&tracks),
+                &pairs,
+                &own(&llr),
+                &[],
+                inf,
+                (0.01, 0.99),
+            )
+            .unwrap()
+        };
+        let exact = run(&Inference {
+            exact_limit: 1_000_000,
+            ..Inference::default()
+        });
+        assert_eq!(exact.components[0].method, Method::Exact);
+        let e2 = 2.0f64.exp();
+        let sampled = run(&Inference {
+            exact_limit: 0,
+            chains: 4,
+            sweeps: 400,
+            seed: 3,
+        });
+        for k in pairs.len() - 4..pairs.len() {
+            let want = if k % 2 == 0 {
+                e2 / (1.0 + e2)
+            } else {
+                1.0 / (1.0 + e2)
+            };
+            assert!((exact.p_same[k] - want).abs() < 1e-9, "{}", exact.p_same[k]);
+            assert!(
+                (sampled.p_same[k] - want).abs() < 0.05,
+                "pair {k}: {} +- {} against {want}",
+                sampled.p_same[k],
+                sampled.std_error[k]
             );
         }
     }
