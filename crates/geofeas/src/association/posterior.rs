@@ -752,6 +752,9 @@ struct Chain<'a> {
     pair_tracks: Vec<u32>,
     pair_others: Vec<u32>,
     pair_held: [Vec<u32>; 2],
+    /// The most blocks [`Chain::redraw_pair`] redraws ([`PAIR_BLOCKS`]; fewer in tests, so
+    /// that small components exercise the redraw with blocks held).
+    pair_blocks: usize,
     /// Inverse temperature: the chain samples the posterior raised to `beta`.
     beta: f64,
     /// Log-weight of the current partition.
@@ -799,6 +802,7 @@ impl<'a> Chain<'a> {
             pair_tracks: Vec::new(),
             pair_others: Vec::new(),
             pair_held: [Vec::new(), Vec::new()],
+            pair_blocks: PAIR_BLOCKS,
             beta: 1.0,
             logw: 0.0,
         };
@@ -996,7 +1000,8 @@ impl<'a> Chain<'a> {
             .iter()
             .map(|&c| self.cell_blocks[c as usize].len())
             .sum();
-        if total > PAIR_BLOCKS && c1 == c2 {
+        let limit = self.pair_blocks;
+        if total > limit && c1 == c2 {
             return;
         }
         // b1 first, b2 second, then the others: bit k of a split puts set[k + 2] with b2
@@ -1010,21 +1015,20 @@ impl<'a> Chain<'a> {
             );
         }
         // a draw that depends on the union of the two objects alone: the blocks in order,
-        // then the first PAIR_BLOCKS - 2 of a partial Fisher-Yates shuffle
+        // then the first `limit - 2` of a partial Fisher-Yates shuffle
         let mut held = std::mem::take(&mut self.pair_held);
         held[0].clear();
         held[1].clear();
-        if total > PAIR_BLOCKS {
+        if total > limit {
             others.sort_unstable();
-            for i in 0..PAIR_BLOCKS - 2 {
-                let j = i
-                    + ((unit(rng) * (others.len() - i) as f64) as usize).min(others.len() - i - 1);
+            for i in 0..limit - 2 {
+                let j = i + below(others.len() - i, rng);
                 others.swap(i, j);
             }
-            for &k in &others[PAIR_BLOCKS - 2..] {
+            for &k in &others[limit - 2..] {
                 held[usize::from(self.label[k as usize] != c1)].push(k);
             }
-            others.truncate(PAIR_BLOCKS - 2);
+            others.truncate(limit - 2);
         }
         let mut set = [0u32; PAIR_BLOCKS];
         (set[0], set[1]) = (b1, b2);
@@ -1380,10 +1384,13 @@ fn infer(comp: &Component, inf: &Inference) -> Marginals {
             weights,
         };
     }
-    sample(comp, inf)
+    sample(comp, inf, PAIR_BLOCKS)
 }
 
-fn sample(comp: &Component, inf: &Inference) -> Marginals {
+/// The sampler's marginals of `comp`; [`Chain::redraw_pair`] redraws at most `pair_blocks`
+/// (at least 3, at most [`PAIR_BLOCKS`]) blocks of two objects.
+fn sample(comp: &Component, inf: &Inference, pair_blocks: usize) -> Marginals {
+    debug_assert!((3..=PAIR_BLOCKS).contains(&pair_blocks));
     let greedy = greedy_start(comp);
     let nb = comp.blocks.len();
     let burn = inf.sweeps / 4;
@@ -1418,6 +1425,7 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
                 .map(|&beta| {
                     let mut ch = Chain::new(comp, start);
                     ch.beta = beta;
+                    ch.pair_blocks = pair_blocks;
                     ch
                 })
                 .collect();
@@ -1490,8 +1498,12 @@ fn sample(comp: &Component, inf: &Inference) -> Marginals {
 
 /// A uniformly drawn element of `xs`.
 fn pick<'a, T>(xs: &'a [T], rng: &mut Xoshiro256PlusPlus) -> Option<&'a T> {
-    let k = (unit(rng) * xs.len() as f64) as usize;
-    xs.get(k.min(xs.len().saturating_sub(1)))
+    xs.get(below(xs.len(), rng))
+}
+
+/// A uniform index in `0..n` (`0` when `n` is 0).
+fn below(n: usize, rng: &mut Xoshiro256PlusPlus) -> usize {
+    ((unit(rng) * n as f64) as usize).min(n.saturating_sub(1))
 }
 
 /// Most pairs a review value looks at beyond those sharing a track with the pair.
@@ -1906,6 +1918,46 @@ mod tests {
         assert!(worst < 0.05, "worst {worst}");
     }
 
+    /// The two-object update with blocks held keeps the posterior: with at most 3 blocks
+    /// redrawn (the two chosen and one drawn), every update of two objects of more than 3
+    /// blocks between them holds the others, on the random components above; the marginals
+    /// agree with enumeration as the full sampler's do.
+    #[test]
+    fn the_two_object_update_with_blocks_held_agrees_with_enumeration() {
+        let mut worst: f64 = 0.0;
+        for seed in 0..8 {
+            let (tracks, pairs, llr) = random_component(seed, 7);
+            let own = vec![(0.0, 0.0); pairs.len()];
+            let k_eff = vec![1.0; pairs.len()];
+            let comps =
+                components(&tracks, &whole(&tracks), &pairs, &llr, &own, &k_eff, &[]).unwrap();
+            for comp in &comps {
+                let exact = infer(comp, &Inference::default());
+                assert_eq!(exact.method, Method::Exact);
+                let inf = Inference {
+                    exact_limit: 0,
+                    chains: 4,
+                    sweeps: 2500,
+                    seed,
+                };
+                let sampled = sample(comp, &inf, 3);
+                for (i, (&e, (&p, &se))) in exact
+                    .p_pair
+                    .iter()
+                    .zip(sampled.p_pair.iter().zip(&sampled.se_pair))
+                    .enumerate()
+                {
+                    worst = worst.max((e - p).abs());
+                    assert!(
+                        (e - p).abs() <= 5.0 * se + 0.02,
+                        "seed {seed} pair {i}: exact {e} sampled {p} +- {se}"
+                    );
+                }
+            }
+        }
+        assert!(worst < 0.05, "worst {worst}");
+    }
+
     #[test]
     fn a_vague_track_over_many_ships_is_estimated_exactly() {
         // an HF DF fix (source 1) over twelve concurrent AIS ships (source 0): it is alone or
@@ -1999,36 +2051,55 @@ mod tests {
         }
     }
 
-    #[test]
-    fn chains_that_start_apart_report_the_modes_they_cannot_join() {
-        // as above, but each ship also holds six tracks of six more sources: the two objects
-        // hold 16 blocks between them, beyond the two-object update, so no move of the
-        // sampler takes the passes from one ship to the other. By symmetry each pass is each
-        // ship's with probability 1/2. Chains that all start where the strongest pairs put
-        // the passes agree on one ship with a standard error of 0; chains that start from
-        // the pairs' own odds (the passes on either ship, or one on each, from which they
-        // fall to either) disagree, and the standard error says so.
+    /// Two moored ships (AIS tracks 0 and 7, source 0, over `0..root_end`), each with six
+    /// tracks of sources 2-7 paired with it at `L = 200`, at the times `extra(source)`, and
+    /// an aircraft's two passes (source 1, at 0-10 and 20-30 s, bound together: `further =
+    /// 200`), each paired with ship 0's AIS track at `pass_llr[0]` and ship 1's at
+    /// `pass_llr[1]`. The passes' four pairs come last: pass 0 with ship 0, with ship 1,
+    /// then pass 1 likewise.
+    fn two_ships_and_passes(
+        root_end: f64,
+        extra: impl Fn(u32) -> (f64, f64),
+        pass_llr: [f64; 2],
+    ) -> (Vec<Track>, Vec<(u32, u32)>, Vec<f64>) {
         let mut tracks = Vec::new();
         let mut pairs = Vec::new();
         let mut llr = Vec::new();
         for _ in 0..2 {
             let root = tracks.len() as u32;
-            tracks.push(tr(0, 0.0, 30.0, 0.1));
+            tracks.push(tr(0, 0.0, root_end, 0.1));
             for source in 2..8 {
                 pairs.push((root, tracks.len() as u32));
                 llr.push(200.0);
-                tracks.push(tr(source, 0.0, 30.0, 0.5));
+                let (start, end) = extra(source);
+                tracks.push(tr(source, start, end, 0.5));
             }
         }
         for (start, end) in [(0.0, 10.0), (20.0, 30.0)] {
             let mut pass = tr(1, start, end, 2.0);
             pass.further = 200.0;
-            for root in [0, 7] {
+            for (root, l) in [(0, pass_llr[0]), (7, pass_llr[1])] {
                 pairs.push((root, tracks.len() as u32));
-                llr.push(100.0);
+                llr.push(l);
             }
             tracks.push(pass);
         }
+        (tracks, pairs, llr)
+    }
+
+    #[test]
+    fn chains_that_start_apart_report_the_modes_they_cannot_join() {
+        // as above, but each ship also has six tracks of six more sources over the passes'
+        // times, with no pair between them or with the passes: an object holds at most one of
+        // them, and not with a pass. Each ship holds its AIS track and either both passes or
+        // one of its six tracks, and the passes cross from one ship to the other only if the
+        // other ship's track leaves for an object of its own at the same time: three objects,
+        // which no move of the sampler changes at once. By symmetry each pass is each ship's
+        // with probability 1/2. Chains that all start where the strongest pairs put the
+        // passes agree on one ship with a standard error of 0; chains that start from the
+        // pairs' own odds (the passes on either ship, or one on each, from which they fall to
+        // either) disagree, and the standard error says so.
+        let (tracks, pairs, llr) = two_ships_and_passes(30.0, |_| (0.0, 30.0), [100.0, 100.0]);
         let inf = Inference {
             exact_limit: 0,
             chains: 16,
@@ -2065,30 +2136,16 @@ mod tests {
     /// the update that redraws ten of the two ships' blocks, the others held, takes both across.
     #[test]
     fn two_ships_beyond_the_two_object_update_exchange_their_passes() {
-        let mut tracks = Vec::new();
-        let mut pairs = Vec::new();
-        let mut llr = Vec::new();
-        for _ in 0..2 {
-            let root = tracks.len() as u32;
-            tracks.push(tr(0, 0.0, 70.0, 0.1));
-            // at times of their own: two tracks with a common instant and no pair between
-            // them are two objects
-            for source in 2..8 {
-                pairs.push((root, tracks.len() as u32));
-                llr.push(200.0);
+        // the six tracks at times of their own: two tracks with a common instant and no pair
+        // between them are two objects
+        let (tracks, pairs, llr) = two_ships_and_passes(
+            70.0,
+            |source| {
                 let t = 40.0 + 5.0 * f64::from(source);
-                tracks.push(tr(source, t, t + 4.0, 0.5));
-            }
-        }
-        for (start, end) in [(0.0, 10.0), (20.0, 30.0)] {
-            let mut pass = tr(1, start, end, 2.0);
-            pass.further = 200.0;
-            for (root, l) in [(0, 101.0), (7, 100.0)] {
-                pairs.push((root, tracks.len() as u32));
-                llr.push(l);
-            }
-            tracks.push(pass);
-        }
+                (t, t + 4.0)
+            },
+            [101.0, 100.0],
+        );
         let run = |inf: &Inference| {
             posterior(
                 &tracks,
