@@ -441,6 +441,33 @@ def test_errors_name_the_row_of_the_whole_table(planar):
         )
 
 
+def test_the_time_cover_of_the_home_tiles_in_global_order():
+    """Each home tile's chains (their times and report counts, which weigh a track's time in
+    the posterior) come back in the picture's track order, as the engine gives them for the
+    whole picture: tracks 2 and 0 from one tile, 1 from another."""
+    pieces = [
+        {
+            "track": np.array([2, 0]),
+            "cover_offsets": np.array([0, 2, 3], np.uint32),
+            "cover_start": np.array([0.0, 900.0, 10.0]),
+            "cover_end": np.array([100.0, 900.0, 50.0]),
+            "cover_reports": np.array([6, 1, 3], np.uint32),
+        },
+        {
+            "track": np.array([1]),
+            "cover_offsets": np.array([0, 3], np.uint32),
+            "cover_start": np.array([0.0, 500.0, 1000.0]),
+            "cover_end": np.array([20.0, 500.0, 1060.0]),
+            "cover_reports": np.array([2, 1, 4], np.uint32),
+        },
+    ]
+    got = gd._time_cover(pieces, 3)
+    np.testing.assert_array_equal(got["cover_offsets"], [0, 1, 4, 6])
+    np.testing.assert_array_equal(got["cover_start"], [10.0, 0.0, 500.0, 1000.0, 0.0, 900.0])
+    np.testing.assert_array_equal(got["cover_end"], [50.0, 20.0, 500.0, 1060.0, 100.0, 900.0])
+    np.testing.assert_array_equal(got["cover_reports"], [3, 2, 1, 4, 6, 1])
+
+
 def test_missing_dask_gives_an_install_hint(monkeypatch):
     import importlib
     import sys

@@ -143,12 +143,14 @@ fn association_track_summary<'py>(
 }
 
 /// When each track has a state (`align::TimeCover`): the chains of track `t` are
-/// `cover_offsets[t]..cover_offsets[t + 1]` of `cover_start`, `cover_end`.
+/// `cover_offsets[t]..cover_offsets[t + 1]` of `cover_start`, `cover_end` and
+/// `cover_reports` (the number of reports in each).
 #[pyclass(name = "TimeCover", frozen, get_all, module = "geofeas._core")]
 pub struct PyTimeCover {
     cover_offsets: Py<PyArray1<u32>>,
     cover_start: Py<PyArray1<f64>>,
     cover_end: Py<PyArray1<f64>>,
+    cover_reports: Py<PyArray1<u32>>,
 }
 
 #[pymethods]
@@ -168,6 +170,7 @@ pub(super) fn time_cover(py: Python<'_>, c: TimeCover) -> PyTimeCover {
         cover_offsets: c.offsets.into_pyarray(py).unbind(),
         cover_start: s.into_pyarray(py).unbind(),
         cover_end: e.into_pyarray(py).unbind(),
+        cover_reports: c.reports.into_pyarray(py).unbind(),
     }
 }
 
@@ -211,7 +214,7 @@ pub(super) fn picture_counts(py: Python<'_>, c: &Counts) -> PictureCounts {
 
 /// The tracks of the global step: a mapping of arrays with one row per track, `source` and
 /// `spread`, and the chains of every track (`cover_offsets`, one more, and `cover_start`,
-/// `cover_end`, one per chain), as `association_track_summary` returns them.
+/// `cover_end`, `cover_reports`, one per chain), as `association_track_summary` returns them.
 #[derive(FromPyObject)]
 #[pyo3(from_item_all)]
 struct TracksArg<'py> {
@@ -220,6 +223,7 @@ struct TracksArg<'py> {
     cover_offsets: PyReadonlyArray1<'py, u32>,
     cover_start: PyReadonlyArray1<'py, f64>,
     cover_end: PyReadonlyArray1<'py, f64>,
+    cover_reports: PyReadonlyArray1<'py, u32>,
 }
 
 /// The global step of `associate` on gathered `pairs` (a mapping: `a`, `b`, sorted, `a < b`,
@@ -250,16 +254,22 @@ fn association_finish<'py>(
         slice("cover_end", &tracks.cover_end)?,
     );
     let offsets = slice("cover_offsets", &tracks.cover_offsets)?;
-    if sp.len() != src.len() || offsets.len() != src.len() + 1 || c0.len() != c1.len() {
+    let n_reports = slice("cover_reports", &tracks.cover_reports)?;
+    if sp.len() != src.len()
+        || offsets.len() != src.len() + 1
+        || c0.len() != c1.len()
+        || n_reports.len() != c0.len()
+    {
         return Err(py_err(Error::Invalid(
             "tracks: source and spread must have one row per track, cover_offsets one more, \
-             and cover_start and cover_end the same length"
+             and cover_start, cover_end and cover_reports the same length"
                 .into(),
         )));
     }
     let cover = TimeCover::from_parts(
         offsets.to_vec(),
         c0.iter().zip(c1).map(|(&x, &y)| [x, y]).collect(),
+        n_reports.to_vec(),
         o.align.horizon,
     )
     .map_err(py_err)?;

@@ -383,6 +383,7 @@ def _time_cover(pieces: list[dict[str, Any]], n_tracks: int) -> dict[str, NDArra
     lengths = np.concatenate([np.diff(np.asarray(p["cover_offsets"], np.int64)) for p in pieces])
     start = np.concatenate([np.asarray(p["cover_start"], np.float64) for p in pieces])
     end = np.concatenate([np.asarray(p["cover_end"], np.float64) for p in pieces])
+    reports = np.concatenate([np.asarray(p["cover_reports"], np.uint32) for p in pieces])
     first = np.cumsum(lengths) - lengths
     order = np.argsort(track, kind="stable")
     # the chains of the tracks in global order: each track's run of rows, one after another
@@ -390,7 +391,12 @@ def _time_cover(pieces: list[dict[str, Any]], n_tracks: int) -> dict[str, NDArra
     offsets = np.r_[0, np.cumsum(n)]
     rows = (np.repeat(first[order] - offsets[:-1], n) + np.arange(offsets[-1])).astype(np.intp)
     offsets = offsets.astype(np.uint32)
-    return {"cover_offsets": offsets, "cover_start": start[rows], "cover_end": end[rows]}
+    return {
+        "cover_offsets": offsets,
+        "cover_start": start[rows],
+        "cover_end": end[rows],
+        "cover_reports": reports[rows],
+    }
 
 
 def _score_tiles(

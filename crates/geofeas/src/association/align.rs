@@ -265,6 +265,8 @@ pub struct TimeCover {
     pub offsets: Vec<u32>,
     /// `[first, last]` report time of every chain.
     pub spans: Vec<[f64; 2]>,
+    /// Number of reports in every chain.
+    pub reports: Vec<u32>,
     /// The extrapolation horizon (s).
     pub horizon: f64,
 }
@@ -274,35 +276,49 @@ impl TimeCover {
     pub fn of(r: &Reports, o: &Alignment) -> Self {
         let mut offsets = Vec::with_capacity(r.n_tracks + 1);
         let mut spans = Vec::new();
+        let mut reports = Vec::new();
         offsets.push(0u32);
         for t in 0..r.n_tracks {
             let ts = r.times(t);
-            let mut lo = ts[0];
-            for w in ts.windows(2) {
+            let (mut lo, mut first) = (ts[0], 0usize);
+            for (i, w) in ts.windows(2).enumerate() {
                 if w[1] - w[0] > o.max_gap {
                     spans.push([lo, w[0]]);
+                    reports.push((i + 1 - first) as u32);
                     lo = w[1];
+                    first = i + 1;
                 }
             }
             spans.push([lo, ts[ts.len() - 1]]);
+            reports.push((ts.len() - first) as u32);
             offsets.push(spans.len() as u32);
         }
         Self {
             offsets,
             spans,
+            reports,
             horizon: o.horizon,
         }
     }
 
     /// A coverage given as arrays (from another process), checked: `offsets` start at 0, never
-    /// decrease and end at `spans.len()`, and every track's intervals are finite, ordered and
-    /// disjoint.
+    /// decrease and end at `spans.len()`, every track's intervals are finite, ordered and
+    /// disjoint, and every chain holds at least one report (`reports`, one per chain).
     pub fn from_parts(
         offsets: Vec<u32>,
         spans: Vec<[f64; 2]>,
+        reports: Vec<u32>,
         horizon: f64,
     ) -> crate::Result<Self> {
         let bad = |m: String| Err(crate::Error::Invalid(m));
+        if reports.len() != spans.len() || reports.contains(&0) {
+            return bad(format!(
+                "coverage reports must be one count of at least 1 per interval ({}), got {} \
+                 counts",
+                spans.len(),
+                reports.len()
+            ));
+        }
         if offsets.first() != Some(&0) || *offsets.last().unwrap_or(&0) as usize != spans.len() {
             return bad(format!(
                 "coverage offsets must start at 0 and end at {} (the number of intervals)",
@@ -331,6 +347,7 @@ impl TimeCover {
         Ok(Self {
             offsets,
             spans,
+            reports,
             horizon,
         })
     }
@@ -348,6 +365,11 @@ impl TimeCover {
     /// The intervals of track `t`.
     pub fn of_track(&self, t: usize) -> &[[f64; 2]] {
         &self.spans[self.offsets[t] as usize..self.offsets[t + 1] as usize]
+    }
+
+    /// The number of reports in each interval of track `t`.
+    pub fn reports_of(&self, t: usize) -> &[u32] {
+        &self.reports[self.offsets[t] as usize..self.offsets[t + 1] as usize]
     }
 
     /// First and last report time of track `t`.
@@ -475,6 +497,14 @@ mod tests {
                 process_noise: 1.0,
             };
             let cov = TimeCover::of(&r, &o);
+            // every chain's report count is the number of the track's report times in it
+            for t in 0..n_tracks {
+                let ts = r.times(t);
+                for (c, &n) in cov.of_track(t).iter().zip(cov.reports_of(t)) {
+                    let inside = ts.iter().filter(|&&x| c[0] <= x && x <= c[1]).count();
+                    assert_eq!(n as usize, inside, "case {case}: {time:?}");
+                }
+            }
             let truth = !common_instants(&r, 0, 1, &o).is_empty();
             assert_eq!(cov.meet(0, 1), truth, "case {case}: {time:?}");
             assert_eq!(cov.meet(1, 0), truth, "case {case}: {time:?}");
@@ -489,12 +519,16 @@ mod tests {
 
     #[test]
     fn coverage_parts_are_checked() {
-        assert!(TimeCover::from_parts(vec![0, 1], vec![[0.0, 1.0]], 0.0).is_ok());
-        assert!(TimeCover::from_parts(vec![0, 2], vec![[0.0, 1.0], [1.0, 2.0]], 0.0).is_err());
-        assert!(TimeCover::from_parts(vec![0, 1], vec![[2.0, 1.0]], 0.0).is_err());
-        assert!(TimeCover::from_parts(vec![0, 0], vec![], 0.0).is_err());
-        assert!(TimeCover::from_parts(vec![1], vec![[0.0, 1.0]], 0.0).is_err());
-        assert!(TimeCover::from_parts(vec![0, 1], vec![[0.0, f64::NAN]], 0.0).is_err());
+        let one = |n: usize| vec![1u32; n];
+        assert!(TimeCover::from_parts(vec![0, 1], vec![[0.0, 1.0]], one(1), 0.0).is_ok());
+        let two = vec![[0.0, 1.0], [1.0, 2.0]];
+        assert!(TimeCover::from_parts(vec![0, 2], two, one(2), 0.0).is_err());
+        assert!(TimeCover::from_parts(vec![0, 1], vec![[2.0, 1.0]], one(1), 0.0).is_err());
+        assert!(TimeCover::from_parts(vec![0, 0], vec![], one(0), 0.0).is_err());
+        assert!(TimeCover::from_parts(vec![1], vec![[0.0, 1.0]], one(1), 0.0).is_err());
+        assert!(TimeCover::from_parts(vec![0, 1], vec![[0.0, f64::NAN]], one(1), 0.0).is_err());
+        assert!(TimeCover::from_parts(vec![0, 1], vec![[0.0, 1.0]], vec![0], 0.0).is_err());
+        assert!(TimeCover::from_parts(vec![0, 1], vec![[0.0, 1.0]], one(2), 0.0).is_err());
     }
 
     #[test]

@@ -382,7 +382,7 @@ pub fn track_breaks(
 /// `b = q^2 / det S` (`Q = q I`; the means over the instants, as for `h`). For `Q << S` it is
 /// `ln k`: `k` fixes of a still emitter pin it `sqrt k` times more tightly than one, which the
 /// density of one fix against the next misses.
-fn own_prediction(k: f64, a: f64, b: f64) -> f64 {
+pub(crate) fn own_prediction(k: f64, a: f64, b: f64) -> f64 {
     if k.is_nan() || k <= 1.0 {
         return 0.0;
     }
@@ -412,6 +412,12 @@ pub struct PairEvidence {
     pub own: (f64, f64),
     /// Independent instants of the pair (`k_eff`).
     pub k_eff: f64,
+    /// What one more independent instant adds to `llr`: `mean l - mean h` (the slope of `L` in
+    /// `k_eff`; 0 when the pair has no instant).
+    pub fit: f64,
+    /// The spread of straight-line motion against the pair's AOUs, `(a, b)` of
+    /// [`own_prediction`]: its term `Lambda` in `llr` is `own_prediction(k_eff, a, b)`.
+    pub motion: (f64, f64),
 }
 
 /// `L` of a scored pair (see the module docs): `stat` from [`super::pair_stat`], `c` the
@@ -431,6 +437,8 @@ pub fn log_likelihood_ratio(
         llr: f64::NEG_INFINITY,
         own: (0.0, 0.0),
         k_eff: 0.0,
+        fit: 0.0,
+        motion: (0.0, 0.0),
     };
     if k == 0 {
         return none;
@@ -463,6 +471,8 @@ pub fn log_likelihood_ratio(
             llr: l,
             own,
             k_eff: stat.evidence_k_eff,
+            fit,
+            motion: (a, b),
         }
     }
 }

@@ -22,7 +22,10 @@
 //! moored ship's AIS track whose reports are further apart than `max_gap`, weighs little
 //! beside the ship's radar track that saw it at 140; and two references that saw it about as
 //! long count about equally, instead of the choice switching between them on a fraction of an
-//! instant); without one, the most precise member with a pair. Each
+//! instant), measured over the union of their times: where they cover different parts of the
+//! joined track's time (a ship's AIS track with a gap at a DF fix that its radar track covers),
+//! the mean pair's terms are taken at the union's independent instants (`Component::anchor`);
+//! without one, the most precise member with a pair. Each
 //! further track of a source the object already holds adds that source's break odds
 //! ([`Track::further`], `ln(g_s (1 - P_s) / P_s)`, [`crate::association::evidence::track_breaks`]):
 //! a pair's `L` weighs a merge of two objects seen by different sources, and two tracks of one
@@ -64,7 +67,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
 use super::align::TimeCover;
-use super::evidence::PairEvidence;
+use super::evidence::{own_prediction, PairEvidence};
 use crate::error::{Error, Result};
 
 /// A pair log-likelihood ratio below this is treated as impossible (`p_same = 0`): the pair is
@@ -233,16 +236,120 @@ impl Dsu {
     }
 }
 
+/// A candidate (or decided) pair seen from one of its tracks, `x`, towards the other.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Edge {
+    /// The other track.
+    to: u32,
+    /// The pair's log-likelihood ratio `L`.
+    l: f64,
+    /// The other track's own term in `L` (see [`cell_weight`](Component::cell_weight)).
+    k: f64,
+    /// The pair's independent instants (see [`anchor`](Component::anchor)).
+    k_eff: f64,
+    /// What one more independent instant adds to `L` ([`PairEvidence::fit`]).
+    fit: f64,
+    /// `(a, b)` of `Lambda` ([`PairEvidence::motion`]).
+    motion: (f64, f64),
+    /// How much of `x`'s time the other track covers, in `x`'s reports (see [`Piece`]); only
+    /// computed when the other track is an anchor of `x` (at least [`ANCHOR_PRECISION`] times
+    /// more precise), else 0.
+    covered: f64,
+    /// Whether it covers all of `x`'s time.
+    full: bool,
+    /// The covered pieces, `pieces[from..to]` of the component, sorted.
+    pieces: (u32, u32),
+}
+
+/// A piece of one of a track's coverage chains ([`TimeCover`]) during which another track has
+/// a state too: `[start, end]`, and the length and number of reports of the chain it lies in.
+/// A track's time is measured in its reports: a chain of one report (a DF fix ten minutes from
+/// the next) counts one when covered; a piece of a longer chain counts its reports in
+/// proportion to the time it covers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Piece {
+    start: f64,
+    end: f64,
+    chain: f64,
+    reports: f64,
+}
+
+impl Piece {
+    fn measure(&self) -> f64 {
+        if self.chain > 0.0 {
+            self.reports * (self.end - self.start) / self.chain
+        } else {
+            self.reports
+        }
+    }
+}
+
+/// The pieces of the chains `xs` (with `reports` each) of one track during which a track with
+/// the chains `ys` (and `horizon` seconds before its first and after its last report) has a
+/// state, in order.
+fn cover_pieces(
+    xs: &[[f64; 2]],
+    reports: &[u32],
+    ys: &[[f64; 2]],
+    horizon: f64,
+    out: &mut Vec<Piece>,
+) {
+    let n = ys.len();
+    let (mut i, mut j) = (0, 0);
+    while i < xs.len() && j < n {
+        let y0 = if j == 0 { ys[j][0] - horizon } else { ys[j][0] };
+        let y1 = if j + 1 == n {
+            ys[j][1] + horizon
+        } else {
+            ys[j][1]
+        };
+        let (lo, hi) = (xs[i][0].max(y0), xs[i][1].min(y1));
+        if lo <= hi {
+            out.push(Piece {
+                start: lo,
+                end: hi,
+                chain: xs[i][1] - xs[i][0],
+                reports: f64::from(reports[i]),
+            });
+        }
+        if xs[i][1] < y1 {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+}
+
+/// The measure of the union of `pieces` (sorted in place).
+fn union_measure(pieces: &mut [Piece]) -> f64 {
+    pieces.sort_by(|a, b| a.start.total_cmp(&b.start));
+    let mut total = 0.0;
+    let mut run: Option<Piece> = None;
+    for p in pieces.iter() {
+        match &mut run {
+            Some(r) if p.start <= r.end => r.end = r.end.max(p.end),
+            _ => {
+                if let Some(r) = run {
+                    total += r.measure();
+                }
+                run = Some(*p);
+            }
+        }
+    }
+    total + run.map_or(0.0, |r| r.measure())
+}
+
 /// One component, in local indices.
 struct Component {
     /// Global track of each local track.
     tracks: Vec<u32>,
     info: Vec<Track>,
-    /// Sorted adjacency `(neighbour, L, k, k_eff)` per local track (candidate pairs and decided
-    /// pairs): `L` the pair's log-likelihood ratio, `k` the neighbour's own term in it (see
-    /// [`cell_weight`](Component::cell_weight)), `k_eff` its independent instants (see
-    /// [`anchor`](Component::anchor)).
-    adj: Vec<Vec<(u32, f64, f64, f64)>>,
+    /// Sorted adjacency per local track (candidate pairs and decided pairs).
+    adj: Vec<Vec<Edge>>,
+    /// The pieces of [`Edge::pieces`].
+    pieces: Vec<Piece>,
+    /// Number of reports of each local track (its whole measure, see [`Piece`]).
+    reports: Vec<u32>,
     /// Local tracks of each block (tracks declared the same).
     blocks: Vec<Vec<u32>>,
     /// Block of each local track.
@@ -260,15 +367,13 @@ struct Component {
 
 impl Component {
     fn edge(&self, x: u32, y: u32) -> Option<f64> {
-        self.edge_parts(x, y).map(|e| e.0)
+        self.edge_from(x, y).map(|e| e.l)
     }
 
-    /// `(L, k_y, k_eff)` of the pair `x`, `y`.
-    fn edge_parts(&self, x: u32, y: u32) -> Option<(f64, f64, f64)> {
+    /// The pair `x`, `y` seen from `x`.
+    fn edge_from(&self, x: u32, y: u32) -> Option<&Edge> {
         let row = &self.adj[x as usize];
-        row.binary_search_by_key(&y, |e| e.0)
-            .ok()
-            .map(|k| (row[k].1, row[k].2, row[k].3))
+        row.binary_search_by_key(&y, |e| e.to).ok().map(|k| &row[k])
     }
 
     fn different(&self, x: u32, y: u32) -> bool {
@@ -295,35 +400,82 @@ impl Component {
     }
 
     /// `(L, k_y)` through which `x` joins the tree of `attached` members: over the members at
-    /// least [`ANCHOR_PRECISION`] times more precise than `x` that have a pair with it, the
-    /// means of their pairs' `L` and of their own terms `k_y`, each pair weighed by its
-    /// independent instants; without such a member, the most precise member with a pair.
+    /// least [`ANCHOR_PRECISION`] times more precise than `x` that have a pair with it (its
+    /// anchors), the means of their pairs' `L` and of their own terms `k_y`, each pair weighed
+    /// by its independent instants; without such a member, the most precise member with a
+    /// pair.
     /// Each of those pairs measures `x` against the object's path through another reference;
     /// one that met `x` at one instant weighs little beside one that saw it all along, and
     /// two references that saw it about as long count about equally, where taking the one
     /// with the most instants switched between them on a fraction of an instant.
+    ///
+    /// `x` is measured over the union of their times, since the object has a path wherever
+    /// one of them has a state: when they cover different parts of `x`'s time (a ship's AIS track with a gap at a DF
+    /// fix that its radar track covers; a radar track broken in two), the mean pair's
+    /// independent instants `k` are scaled by the union's measure over the mean pair's
+    /// ([`Piece`]), `K = k m_union / m`, and the instants beyond `k` add what the mean pair's
+    /// instants add: `L = mean L + (K - k) mean fit + Lambda(K) - Lambda(k)`
+    /// ([`PairEvidence::fit`]; `Lambda` at the mean `(a, b)`, [`PairEvidence::motion`]).
     fn anchor(&self, x: u32, attached: &[u32]) -> Option<(f64, f64)> {
         let sx = self.info[x as usize].spread;
         let mut first = None;
         let (mut sum_w, mut sum_l, mut sum_k) = (0.0, 0.0, 0.0);
+        let (mut sum_keff, mut sum_fit, mut sum_m) = (0.0, 0.0, 0.0);
+        let (mut sum_a, mut sum_b) = (0.0, 0.0);
+        let (mut anchors, mut full, mut partial) = (0usize, false, 0usize);
         for &y in attached {
-            if let Some((l, k_y, k_eff)) = self.edge_parts(x, y) {
+            if let Some(e) = self.edge_from(x, y) {
                 if first.is_none() {
-                    first = Some((l, k_y));
+                    first = Some((e.l, e.k));
                 }
                 if self.info[y as usize].spread * ANCHOR_PRECISION <= sx {
-                    let w = k_eff.max(f64::MIN_POSITIVE);
+                    let w = e.k_eff.max(f64::MIN_POSITIVE);
                     sum_w += w;
-                    sum_l += w * l;
-                    sum_k += w * k_y;
+                    sum_l += w * e.l;
+                    sum_k += w * e.k;
+                    sum_keff += w * e.k_eff;
+                    sum_fit += w * e.fit;
+                    sum_m += w * e.covered;
+                    sum_a += w * e.motion.0;
+                    sum_b += w * e.motion.1;
+                    anchors += 1;
+                    full |= e.full;
+                    partial += usize::from(!e.full);
                 }
             }
         }
-        if sum_w > 0.0 {
-            Some((sum_l / sum_w, sum_k / sum_w))
-        } else {
-            first
+        if anchors == 0 {
+            return first;
         }
+        let (l, k) = (sum_l / sum_w, sum_k / sum_w);
+        let m_mean = sum_m / sum_w;
+        // the union adds nothing with one anchor, or when every anchor covers all of x's time
+        if anchors == 1 || partial == 0 || m_mean <= 0.0 {
+            return Some((l, k));
+        }
+        let m_union = if full {
+            f64::from(self.reports[x as usize])
+        } else {
+            let mut pieces: Vec<Piece> = Vec::new();
+            for &y in attached {
+                if let Some(e) = self.edge_from(x, y) {
+                    if self.info[y as usize].spread * ANCHOR_PRECISION <= sx {
+                        let (from, to) = (e.pieces.0 as usize, e.pieces.1 as usize);
+                        pieces.extend_from_slice(&self.pieces[from..to]);
+                    }
+                }
+            }
+            union_measure(&mut pieces)
+        };
+        if m_union <= m_mean {
+            return Some((l, k));
+        }
+        let k_mean = sum_keff / sum_w;
+        let big_k = k_mean * m_union / m_mean;
+        let (a, b) = (sum_a / sum_w, sum_b / sum_w);
+        let more = (big_k - k_mean) * (sum_fit / sum_w) + own_prediction(big_k, a, b)
+            - own_prediction(k_mean, a, b);
+        Some((l + more, k))
     }
 
     /// Log-weight of an object holding the tracks `members` (assumed feasible); `-inf` if the
@@ -472,18 +624,17 @@ fn same_path(decisions: &[Decision], a: u32, b: u32) -> Vec<usize> {
     rows
 }
 
-/// Builds the components of the candidate graph of `pairs` with log-likelihood ratios `llr`
-/// (pairs below [`L_CUT`] left out) and `decisions`, checking the decisions.
+/// Builds the components of the candidate graph of `pairs` with their `evidence` (pairs whose
+/// log-likelihood ratio is below [`L_CUT`] left out) and `decisions`, checking the decisions.
 fn components(
     tracks: &[Track],
     cover: &TimeCover,
     pairs: &[(u32, u32)],
-    llr: &[f64],
-    own: &[(f64, f64)],
-    k_eff: &[f64],
+    evidence: &[PairEvidence],
     decisions: &[Decision],
 ) -> Result<Vec<Component>> {
     let n = tracks.len();
+    let llr: Vec<f64> = evidence.iter().map(|e| e.llr).collect();
     let mut same = same_blocks(tracks, decisions)?;
     // components: candidate pairs above the cut and decisions
     let mut dsu = Dsu::new(n);
@@ -505,6 +656,8 @@ fn components(
                 tracks: Vec::new(),
                 info: Vec::new(),
                 adj: Vec::new(),
+                pieces: Vec::new(),
+                reports: Vec::new(),
                 blocks: Vec::new(),
                 block_of: Vec::new(),
                 different: Vec::new(),
@@ -518,6 +671,9 @@ fn components(
         comps[c].tracks.push(t);
         comps[c].info.push(tracks[t as usize]);
         comps[c].adj.push(Vec::new());
+        comps[c]
+            .reports
+            .push(cover.reports_of(t as usize).iter().sum());
     }
     let comp_of = |t: u32, dsu: &mut Dsu| comp_of_root[&dsu.find(t)];
     for (k, &(a, b)) in pairs.iter().enumerate() {
@@ -525,8 +681,39 @@ fn components(
             let c = comp_of(a, &mut dsu);
             let (la, lb) = (local[a as usize], local[b as usize]);
             let comp = &mut comps[c];
-            comp.adj[la as usize].push((lb, llr[k], own[k].1, k_eff[k]));
-            comp.adj[lb as usize].push((la, llr[k], own[k].0, k_eff[k]));
+            let (ga, gb) = (a as usize, b as usize);
+            let own = evidence[k].own;
+            for (x, y, gx, gy, k_y) in [(la, lb, ga, gb, own.1), (lb, la, gb, ga, own.0)] {
+                // the coverage of x by y, where y may be an anchor of x
+                let from = comp.pieces.len() as u32;
+                if tracks[gy].spread * ANCHOR_PRECISION <= tracks[gx].spread {
+                    cover_pieces(
+                        cover.of_track(gx),
+                        cover.reports_of(gx),
+                        cover.of_track(gy),
+                        cover.horizon,
+                        &mut comp.pieces,
+                    );
+                }
+                let to = comp.pieces.len() as u32;
+                let covered: f64 = comp.pieces[from as usize..]
+                    .iter()
+                    .map(Piece::measure)
+                    .sum();
+                let whole: u32 = cover.reports_of(gx).iter().sum();
+                let e = &evidence[k];
+                comp.adj[x as usize].push(Edge {
+                    to: y,
+                    l: e.llr,
+                    k: k_y,
+                    k_eff: e.k_eff,
+                    fit: e.fit,
+                    motion: e.motion,
+                    covered,
+                    full: to > from && covered >= f64::from(whole) * (1.0 - 1e-12),
+                    pieces: (from, to),
+                });
+            }
             comp.pairs.push((k, la, lb));
         }
     }
@@ -536,9 +723,20 @@ fn components(
         let comp = &mut comps[c];
         if d.same {
             // a decided pair connects its object even without a candidate pair
-            if !comp.adj[la as usize].iter().any(|e| e.0 == lb) {
-                comp.adj[la as usize].push((lb, 0.0, 0.0, 0.0));
-                comp.adj[lb as usize].push((la, 0.0, 0.0, 0.0));
+            if !comp.adj[la as usize].iter().any(|e| e.to == lb) {
+                for (x, y) in [(la, lb), (lb, la)] {
+                    comp.adj[x as usize].push(Edge {
+                        to: y,
+                        l: 0.0,
+                        k: 0.0,
+                        k_eff: 0.0,
+                        fit: 0.0,
+                        motion: (0.0, 0.0),
+                        covered: 0.0,
+                        full: false,
+                        pieces: (0, 0),
+                    });
+                }
             }
         } else {
             comp.different.push((la.min(lb), la.max(lb)));
@@ -546,8 +744,8 @@ fn components(
     }
     for comp in &mut comps {
         for row in &mut comp.adj {
-            row.sort_by(|x, y| x.0.cmp(&y.0).then(y.1.total_cmp(&x.1)));
-            row.dedup_by_key(|e| e.0);
+            row.sort_by(|x, y| x.to.cmp(&y.to).then(y.l.total_cmp(&x.l)));
+            row.dedup_by_key(|e| e.to);
         }
         comp.different.sort_unstable();
         comp.different.dedup();
@@ -713,7 +911,7 @@ fn enumerate(comp: &Component, limit: usize) -> Option<(Vec<Vec<u32>>, Vec<f64>)
             comp.blocks[b as usize].iter().any(|&x| {
                 comp.adj[x as usize]
                     .iter()
-                    .any(|e| pos[comp.block_of[e.0 as usize] as usize] > k)
+                    .any(|e| pos[comp.block_of[e.to as usize] as usize] > k)
             })
         })
         .collect();
@@ -864,7 +1062,7 @@ impl<'a> Chain<'a> {
         let cells_of = |ch: &Self, xs: &[u32]| -> Vec<u32> {
             let mut cs: Vec<u32> = xs
                 .iter()
-                .flat_map(|&x| comp.adj[x as usize].iter().map(|e| e.0))
+                .flat_map(|&x| comp.adj[x as usize].iter().map(|e| e.to))
                 .map(|y| ch.label[comp.block_of[y as usize] as usize])
                 .filter(|&c| c != old)
                 .collect();
@@ -1401,7 +1599,7 @@ fn sample(comp: &Component, inf: &Inference, pair_blocks: usize) -> Marginals {
             let mut near: Vec<u32> = comp.blocks[b]
                 .iter()
                 .flat_map(|&x| comp.adj[x as usize].iter())
-                .map(|e| comp.block_of[e.0 as usize])
+                .map(|e| comp.block_of[e.to as usize])
                 .filter(|&k| k != b as u32)
                 .collect();
             near.sort_unstable();
@@ -1633,10 +1831,7 @@ pub fn posterior(
             right: evidence.len(),
         });
     }
-    let llr: Vec<f64> = evidence.iter().map(|e| e.llr).collect();
-    let own: Vec<(f64, f64)> = evidence.iter().map(|e| e.own).collect();
-    let k_eff: Vec<f64> = evidence.iter().map(|e| e.k_eff).collect();
-    if let Some(k) = llr.iter().position(|x| x.is_nan()) {
+    if let Some(k) = evidence.iter().position(|e| e.llr.is_nan()) {
         return Err(Error::Invalid(format!(
             "pair {k}: log-likelihood ratio is NaN"
         )));
@@ -1648,7 +1843,7 @@ pub fn posterior(
             right: cover.len(),
         });
     }
-    let comps = components(tracks, cover, pairs, &llr, &own, &k_eff, decisions)?;
+    let comps = components(tracks, cover, pairs, evidence, decisions)?;
     type Review = (Vec<f64>, Vec<(u32, u32)>);
     let results: Vec<(Marginals, Review)> = comps
         .par_iter()
@@ -1796,6 +1991,8 @@ mod tests {
                 llr,
                 own: (0.0, 0.0),
                 k_eff: 1.0,
+                fit: 0.0,
+                motion: (0.0, 0.0),
             })
             .collect()
     }
@@ -1803,7 +2000,8 @@ mod tests {
     fn whole(tracks: &[Track]) -> TimeCover {
         // one chain per track over its whole span
         let spans = tracks.iter().map(|t| [t.start, t.end]).collect();
-        TimeCover::from_parts((0..=tracks.len() as u32).collect(), spans, 0.0).unwrap()
+        let reports = vec![1; tracks.len()];
+        TimeCover::from_parts((0..=tracks.len() as u32).collect(), spans, reports, 0.0).unwrap()
     }
 
     #[test]
@@ -1927,10 +2125,7 @@ mod tests {
         let mut worst: f64 = 0.0;
         for seed in 0..8 {
             let (tracks, pairs, llr) = random_component(seed, 7);
-            let own = vec![(0.0, 0.0); pairs.len()];
-            let k_eff = vec![1.0; pairs.len()];
-            let comps =
-                components(&tracks, &whole(&tracks), &pairs, &llr, &own, &k_eff, &[]).unwrap();
+            let comps = components(&tracks, &whole(&tracks), &pairs, &own(&llr), &[]).unwrap();
             for comp in &comps {
                 let exact = infer(comp, &Inference::default());
                 assert_eq!(exact.method, Method::Exact);
@@ -2288,6 +2483,8 @@ mod tests {
             llr,
             own: (0.0, 0.0),
             k_eff,
+            fit: 0.0,
+            motion: (0.0, 0.0),
         }
     }
 
@@ -2300,8 +2497,9 @@ mod tests {
         let (c, a, b) = (8.0_f64, 1.0_f64, 4.0_f64);
         let evidence = [ev(c, 100.0), ev(a, 1.0), ev(b, 50.0)];
         let pairs = [(0, 1), (0, 2), (1, 2)];
+        let mean = (a + 50.0 * b) / 51.0;
         // R precise enough: the two pairs' mean by independent instants; else A's alone
-        for (r_spread, through) in [(3.0, (a + 50.0 * b) / 51.0), (6.0, a)] {
+        for (r_spread, through) in [(3.0, mean), (6.0, a)] {
             let tracks = [
                 tr(0, 0.0, 100.0, 1.0),
                 tr(1, 0.0, 100.0, r_spread),
@@ -2320,6 +2518,92 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The covered pieces of a track's chains, by hand: a chain of 100 s holding 10 reports and
+    /// a lone report;
+    /// one reference covers 0-60 s; another has reports from 50 to 120 s and from 250 to 290 s,
+    /// and with a horizon of 10 s before its first report and after its last it covers 40-100
+    /// s and the lone report at 300 s. Each covers 0.6 of the chain, 6 reports' worth;
+    /// together they cover all of it, and the lone report once: 11.
+    #[test]
+    fn covered_pieces_and_their_union_by_hand() {
+        let (xs, n) = ([[0.0, 100.0], [300.0, 300.0]], [10, 1]);
+        let mut p = Vec::new();
+        cover_pieces(&xs, &n, &[[-50.0, 60.0]], 0.0, &mut p);
+        let first = p.len();
+        assert!((p.iter().map(Piece::measure).sum::<f64>() - 6.0).abs() < 1e-12);
+        cover_pieces(&xs, &n, &[[50.0, 120.0], [250.0, 290.0]], 10.0, &mut p);
+        let second: f64 = p[first..].iter().map(Piece::measure).sum();
+        assert!((second - 7.0).abs() < 1e-12, "{second}");
+        // without the horizon the lone report is not covered
+        let mut q = Vec::new();
+        cover_pieces(&xs, &n, &[[50.0, 120.0], [250.0, 290.0]], 0.0, &mut q);
+        assert!((q.iter().map(Piece::measure).sum::<f64>() - 5.0).abs() < 1e-12);
+        assert!((union_measure(&mut p) - 11.0).abs() < 1e-12);
+    }
+
+    /// An HF DF track X with four fixes (at 0, 1000, 2000 and 3000 s, each a chain of its own)
+    /// over two ships: ship 1's AIS track A has a gap from 1500 s, where its radar track R
+    /// takes over, so A and R each cover two fixes; ship 2's AIS track B covers all four. Every
+    /// fix fits as well (`fit` 1, `base` -2), so X's pairs are `L = -2 + (k - 1) + ln k`: -0.31
+    /// with A or R (2 instants) and 2.39 with B (4). In the object of A, R and X, X is measured
+    /// against the path of A and R together, which covers its four fixes: it joins with B's
+    /// `L`, and the two ships are about equally likely, 0.476 and 0.479. (Through the mean of
+    /// its pairs with A and R it joined with -0.31: 0.058 against 0.862.)
+    #[test]
+    fn a_track_is_measured_over_the_union_of_its_references_times() {
+        let tracks = [
+            tr(0, 0.0, 1500.0, 1.0),    // A
+            tr(1, 1500.0, 3500.0, 2.0), // R
+            tr(0, 0.0, 3500.0, 1.0),    // B
+            tr(3, 0.0, 3000.0, 100.0),  // X
+        ];
+        let fixes = [
+            [0.0, 0.0],
+            [1000.0, 1000.0],
+            [2000.0, 2000.0],
+            [3000.0, 3000.0],
+        ];
+        let mut spans = vec![[0.0, 1500.0], [1500.0, 3500.0], [0.0, 3500.0]];
+        spans.extend(fixes);
+        let cover = TimeCover::from_parts(vec![0, 1, 2, 3, 7], spans, vec![1; 7], 0.0).unwrap();
+        let pair_l = |k: f64| -2.0 + (k - 1.0) + k.ln();
+        let evf = |k: f64| PairEvidence {
+            llr: pair_l(k),
+            own: (0.0, 0.0),
+            k_eff: k,
+            fit: 1.0,
+            motion: (0.0, 0.0),
+        };
+        let l_ar = 5.0;
+        // A-R, A-X, R-X, B-X (B and R meet without a pair: two objects)
+        let pairs = [(0, 1), (0, 3), (1, 3), (2, 3)];
+        let evidence = [ev(l_ar, 1.0), evf(2.0), evf(2.0), evf(4.0)];
+        let p = with_evidence(&tracks, &cover, &pairs, &evidence, &[]);
+        let (half, whole) = (pair_l(2.0), pair_l(4.0));
+        // {A}{R}{B}{X}, {AR}, {AX}, {RX}, {BX}, {AR}{BX}, {ARX}
+        let w = [
+            1.0,
+            l_ar.exp(),
+            half.exp(),
+            half.exp(),
+            whole.exp(),
+            (l_ar + whole).exp(),
+            (l_ar + whole).exp(),
+        ];
+        let z: f64 = w.iter().sum();
+        let want = [
+            (w[1] + w[5] + w[6]) / z,
+            (w[2] + w[6]) / z,
+            (w[3] + w[6]) / z,
+            (w[4] + w[5]) / z,
+        ];
+        assert_eq!(p.components[0].partitions, 7);
+        for (k, w) in want.iter().enumerate() {
+            assert!((p.p_same[k] - w).abs() < 1e-12, "{k}: {} {w}", p.p_same[k]);
+        }
+        assert!((p.p_same[1] - 0.476).abs() < 1e-3 && (p.p_same[3] - 0.479).abs() < 1e-3);
     }
 
     /// Two references that saw an aircraft track X about as long (independent instants 50 and
@@ -2394,6 +2678,7 @@ mod tests {
         let cover = TimeCover::from_parts(
             vec![0, 1, 3, 4],
             vec![[0.0, 100.0], [0.0, 0.0], [60.0, 60.0], [20.0, 40.0]],
+            vec![1; 4],
             0.0,
         )
         .unwrap();
@@ -2427,11 +2712,15 @@ mod tests {
                 llr: 3.0,
                 own: (-0.5, -1.0),
                 k_eff: 1.0,
+                fit: 0.0,
+                motion: (0.0, 0.0),
             },
             PairEvidence {
                 llr: 4.0,
                 own: (-0.5, -2.0),
                 k_eff: 1.0,
+                fit: 0.0,
+                motion: (0.0, 0.0),
             },
         ];
         let p = with_evidence(&tracks, &whole(&tracks), &pairs, &own, &[]);
