@@ -373,6 +373,16 @@ pub fn track_breaks(
         .collect()
 }
 
+/// The term of the `j`-th later independent instant in [`own_prediction`],
+/// `ln sqrt(det(S (1 + 1/j) + Q) / det(S + Q))`.
+fn own_term(a: f64, b: f64) -> impl Fn(f64) -> f64 {
+    let base = (1.0 + a + b).ln();
+    move |j: f64| {
+        let x = 1.0 + 1.0 / j;
+        0.5 * ((x * x + x * a + b).ln() - base)
+    }
+}
+
 /// The part of `L` that the second track's own earlier instants leave unexplained under "two
 /// objects": at its `j`-th later independent instant the track's position is known from its
 /// `j` earlier ones with the covariance `S / j` of their mean, so the density of the instant
@@ -382,15 +392,11 @@ pub fn track_breaks(
 /// `b = q^2 / det S` (`Q = q I`; the means over the instants, as for `h`). For `Q << S` it is
 /// `ln k`: `k` fixes of a still emitter pin it `sqrt k` times more tightly than one, which the
 /// density of one fix against the next misses.
-pub(crate) fn own_prediction(k: f64, a: f64, b: f64) -> f64 {
+fn own_prediction(k: f64, a: f64, b: f64) -> f64 {
     if k.is_nan() || k <= 1.0 {
         return 0.0;
     }
-    let base = (1.0 + a + b).ln();
-    let term = |j: f64| {
-        let x = 1.0 + 1.0 / j;
-        0.5 * ((x * x + x * a + b).ln() - base)
-    };
+    let term = own_term(a, b);
     let whole = (k - 1.0).floor();
     let mut sum = 0.0;
     let mut j = 1.0;
@@ -401,6 +407,26 @@ pub(crate) fn own_prediction(k: f64, a: f64, b: f64) -> f64 {
     let rest = k - 1.0 - whole;
     if rest > 0.0 {
         sum += rest * term(whole + 1.0);
+    }
+    sum
+}
+
+/// `own_prediction(k1, a, b) - own_prediction(k0, a, b)` for `k1 >= k0`, summing only the
+/// instants between the two.
+pub(crate) fn own_prediction_between(k0: f64, k1: f64, a: f64, b: f64) -> f64 {
+    let (k0, k1) = (k0.max(1.0), k1.max(1.0));
+    if k0.is_nan() || k1.is_nan() || k1 <= k0 {
+        return 0.0;
+    }
+    let term = own_term(a, b);
+    // own_prediction(k) = sum of term(j) for j = 1..=w, plus r term(w + 1), w = floor(k - 1)
+    let (w0, w1) = ((k0 - 1.0).floor(), (k1 - 1.0).floor());
+    let (r0, r1) = (k0 - 1.0 - w0, k1 - 1.0 - w1);
+    let mut sum = r1 * term(w1 + 1.0) - r0 * term(w0 + 1.0);
+    let mut j = w0 + 1.0;
+    while j <= w1 {
+        sum += term(j);
+        j += 1.0;
     }
     sum
 }
@@ -509,6 +535,29 @@ mod tests {
         let (tr, dt) = (sxx + syy, det(1.0, 0.0));
         let got = own_prediction(7.0, qq * tr / dt, qq * qq / dt);
         assert!((got - want).abs() < 1e-10, "{got} {want}");
+    }
+
+    /// The difference of `own_prediction` between two counts, summed over the instants
+    /// between them only, is the difference of the whole sums (whole and fractional counts,
+    /// below one, equal, and a wide `Q`).
+    #[test]
+    fn own_prediction_between_two_counts_is_their_difference() {
+        for (a, b) in [(0.0, 0.0), (0.3, 0.02), (5.0, 7.0)] {
+            for (k0, k1) in [
+                (1.0, 5.0),
+                (2.5, 2.75),
+                (0.4, 3.2),
+                (3.5, 17.25),
+                (4.0, 4.0),
+            ] {
+                let want = own_prediction(k1, a, b) - own_prediction(k0, a, b);
+                let got = own_prediction_between(k0, k1, a, b);
+                assert!(
+                    (got - want).abs() < 1e-12,
+                    "{k0} {k1} {a} {b}: {got} {want}"
+                );
+            }
+        }
     }
 
     /// `L` of a still emitter's `k` fixes (covariance `R`, 9 x 1.5 km) against a still ship

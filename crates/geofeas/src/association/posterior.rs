@@ -67,7 +67,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
 use super::align::TimeCover;
-use super::evidence::{own_prediction, PairEvidence};
+use super::evidence::{own_prediction_between, PairEvidence};
 use crate::error::{Error, Result};
 
 /// A pair log-likelihood ratio below this is treated as impossible (`p_same = 0`): the pair is
@@ -320,9 +320,15 @@ fn cover_pieces(
     }
 }
 
+thread_local! {
+    /// The pieces of a join's union ([`Component::anchor`]), reused: the join is weighed at
+    /// every move of the sampler.
+    static UNION: std::cell::RefCell<Vec<Piece>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// The measure of the union of `pieces` (sorted in place).
 fn union_measure(pieces: &mut [Piece]) -> f64 {
-    pieces.sort_by(|a, b| a.start.total_cmp(&b.start));
+    pieces.sort_unstable_by(|a, b| a.start.total_cmp(&b.start));
     let mut total = 0.0;
     let mut run: Option<Piece> = None;
     for p in pieces.iter() {
@@ -410,11 +416,11 @@ impl Component {
     /// with the most instants switched between them on a fraction of an instant.
     ///
     /// `x` is measured over the union of their times, since the object has a path wherever
-    /// one of them has a state: when they cover different parts of `x`'s time (a ship's AIS track with a gap at a DF
-    /// fix that its radar track covers; a radar track broken in two), the mean pair's
-    /// independent instants `k` are scaled by the union's measure over the mean pair's
-    /// ([`Piece`]), `K = k m_union / m`, and the instants beyond `k` add what the mean pair's
-    /// instants add: `L = mean L + (K - k) mean fit + Lambda(K) - Lambda(k)`
+    /// one of them has a state: when they cover different parts of `x`'s time (a ship's AIS
+    /// track with a gap at a DF fix that its radar track covers; a radar track broken in two),
+    /// the mean pair's independent instants `k` are scaled by the union's measure over the
+    /// mean pair's ([`Piece`]), `K = k m_union / m`, and the instants beyond `k` add what the
+    /// mean pair's instants add: `L = mean L + (K - k) mean fit + Lambda(K) - Lambda(k)`
     /// ([`PairEvidence::fit`]; `Lambda` at the mean `(a, b)`, [`PairEvidence::motion`]).
     fn anchor(&self, x: u32, attached: &[u32]) -> Option<(f64, f64)> {
         let sx = self.info[x as usize].spread;
@@ -450,22 +456,23 @@ impl Component {
         let (l, k) = (sum_l / sum_w, sum_k / sum_w);
         let m_mean = sum_m / sum_w;
         // the union adds nothing with one anchor, or when every anchor covers all of x's time
-        if anchors == 1 || partial == 0 || m_mean <= 0.0 {
-            return Some((l, k));
-        }
-        let m_union = if full {
+        let m_union = if anchors == 1 || partial == 0 || m_mean <= 0.0 {
+            m_mean
+        } else if full {
             f64::from(self.reports[x as usize])
         } else {
-            let mut pieces: Vec<Piece> = Vec::new();
-            for &y in attached {
-                if let Some(e) = self.edge_from(x, y) {
-                    if self.info[y as usize].spread * ANCHOR_PRECISION <= sx {
-                        let (from, to) = (e.pieces.0 as usize, e.pieces.1 as usize);
-                        pieces.extend_from_slice(&self.pieces[from..to]);
+            UNION.with_borrow_mut(|pieces| {
+                pieces.clear();
+                for &y in attached {
+                    if let Some(e) = self.edge_from(x, y) {
+                        if self.info[y as usize].spread * ANCHOR_PRECISION <= sx {
+                            let (from, to) = (e.pieces.0 as usize, e.pieces.1 as usize);
+                            pieces.extend_from_slice(&self.pieces[from..to]);
+                        }
                     }
                 }
-            }
-            union_measure(&mut pieces)
+                union_measure(pieces)
+            })
         };
         if m_union <= m_mean {
             return Some((l, k));
@@ -473,8 +480,8 @@ impl Component {
         let k_mean = sum_keff / sum_w;
         let big_k = k_mean * m_union / m_mean;
         let (a, b) = (sum_a / sum_w, sum_b / sum_w);
-        let more = (big_k - k_mean) * (sum_fit / sum_w) + own_prediction(big_k, a, b)
-            - own_prediction(k_mean, a, b);
+        let more =
+            (big_k - k_mean) * (sum_fit / sum_w) + own_prediction_between(k_mean, big_k, a, b);
         Some((l + more, k))
     }
 
