@@ -272,11 +272,14 @@ pub fn centroid(r: &Reports, track: usize) -> [f64; 2] {
             st.iter().map(|s| s.pos[1]).sum::<f64>() / n,
         ],
         Coords::Geographic => {
-            let wrap = |d: f64| (d + 180.0).rem_euclid(360.0) - 180.0;
             let lon0 = first.pos[1];
             let lat = st.iter().map(|s| s.pos[0]).sum::<f64>() / n;
-            let dlon = st.iter().map(|s| wrap(s.pos[1] - lon0)).sum::<f64>() / n;
-            [lat, wrap(lon0 + dlon)]
+            let dlon = st
+                .iter()
+                .map(|s| geodesy::wrap_lon(s.pos[1] - lon0))
+                .sum::<f64>()
+                / n;
+            [lat, geodesy::wrap_lon(lon0 + dlon)]
         }
     }
 }

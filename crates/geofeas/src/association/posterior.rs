@@ -255,8 +255,6 @@ struct Edge {
     /// computed when the other track is an anchor of `x` (at least [`ANCHOR_PRECISION`] times
     /// more precise), else 0.
     covered: f64,
-    /// Whether it covers all of `x`'s time.
-    full: bool,
     /// The covered pieces, `pieces[from..to]` of the component, sorted.
     pieces: (u32, u32),
 }
@@ -424,6 +422,7 @@ impl Component {
     /// ([`PairEvidence::fit`]; `Lambda` at the mean `(a, b)`, [`PairEvidence::motion`]).
     fn anchor(&self, x: u32, attached: &[u32]) -> Option<(f64, f64)> {
         let sx = self.info[x as usize].spread;
+        let whole = f64::from(self.reports[x as usize]);
         let mut first = None;
         let (mut sum_w, mut sum_l, mut sum_k) = (0.0, 0.0, 0.0);
         let (mut sum_keff, mut sum_fit, mut sum_m) = (0.0, 0.0, 0.0);
@@ -445,8 +444,10 @@ impl Component {
                     sum_a += w * e.motion.0;
                     sum_b += w * e.motion.1;
                     anchors += 1;
-                    full |= e.full;
-                    partial += usize::from(!e.full);
+                    // covers all of x's time
+                    let all = e.covered >= whole * (1.0 - 1e-12);
+                    full |= all;
+                    partial += usize::from(!all);
                 }
             }
         }
@@ -459,7 +460,7 @@ impl Component {
         let m_union = if anchors == 1 || partial == 0 || m_mean <= 0.0 {
             m_mean
         } else if full {
-            f64::from(self.reports[x as usize])
+            whole
         } else {
             UNION.with_borrow_mut(|pieces| {
                 pieces.clear();
@@ -707,7 +708,6 @@ fn components(
                     .iter()
                     .map(Piece::measure)
                     .sum();
-                let whole: u32 = cover.reports_of(gx).iter().sum();
                 let e = &evidence[k];
                 comp.adj[x as usize].push(Edge {
                     to: y,
@@ -717,7 +717,6 @@ fn components(
                     fit: e.fit,
                     motion: e.motion,
                     covered,
-                    full: to > from && covered >= f64::from(whole) * (1.0 - 1e-12),
                     pieces: (from, to),
                 });
             }
@@ -740,7 +739,6 @@ fn components(
                         fit: 0.0,
                         motion: (0.0, 0.0),
                         covered: 0.0,
-                        full: false,
                         pieces: (0, 0),
                     });
                 }
