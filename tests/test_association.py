@@ -694,6 +694,63 @@ def test_empty_reports_give_empty_results():
     ]
 
 
+def test_false_overlap_is_the_share_of_a_source_s_reports_where_the_objects_are(rng):
+    """``Association.false_overlap`` against a direct computation: the most complete source's
+    track-time per ``density_cell`` square (every report stands for the time to its track's
+    next report, at most ``max_gap``; a last report for the gap before it, a lone one for
+    ``min(max_gap, 60)``), each square's time displaced by a Gaussian of the source's typical
+    1-sigma reach beyond the reference's (the mean over its reports of ``sqrt(rx ry) / 2``)
+    and summed over the squares it lands in, against every pair of occupied squares; at least
+    0.05."""
+    rows = []
+    for t in range(40):
+        source = ["ais", "ais", "radar", "hfdf"][t % 4]
+        n = 1 if source == "hfdf" else int(rng.integers(2, 30))
+        times = rng.uniform(0, 900) + np.cumsum(rng.uniform(1, 400, n))
+        p = rng.normal(0, 3_000.0, 2) + np.cumsum(rng.normal(0, 200, (n, 2)), axis=0)
+        r = {"ais": 20.0, "radar": 300.0, "hfdf": 30_000.0}[source]
+        rows.append(
+            pd.DataFrame(
+                dict(track_id=f"{source}-{t}", source=source, time=times, x=p[:, 0], y=p[:, 1])
+            ).assign(rx=r * rng.uniform(0.5, 1.5, n), ry=r / 5, phi=0.3)
+        )
+    frame = pd.concat(rows, ignore_index=True)
+    res = geofeas.associate(frame)
+    max_gap = ASSOCIATION_DEFAULTS["max_gap"]
+    cell = ASSOCIATION_DEFAULTS["density_cell"]
+    seconds: dict[str, dict[tuple[int, int], float]] = {}
+    for (_, source), g in frame.sort_values("time").groupby(["track_id", "source"]):
+        t = g["time"].to_numpy()
+        gaps = np.diff(t)
+        if len(t) == 1:
+            dt = np.array([min(max_gap, 60.0)])
+        else:
+            dt = np.minimum(np.append(gaps, gaps[-1]), max_gap)
+        for x, y, d in zip(g["x"], g["y"], dt, strict=True):
+            key = (math.floor(x / cell), math.floor(y / cell))
+            per = seconds.setdefault(source, {})
+            per[key] = per.get(key, 0.0) + d
+    reference = max(seconds, key=lambda s: sum(seconds[s].values()))
+    assert reference == "ais"
+    sigma = {s: np.round(np.sqrt(g["rx"] * g["ry"])).mean() / 2 for s, g in frame.groupby("source")}
+    keys = np.array(list(seconds[reference]), dtype=float)
+    w = np.array(list(seconds[reference].values()))
+    for source in seconds:
+        extra = math.sqrt(max(0.0, sigma[source] ** 2 - sigma[reference] ** 2)) / cell
+        if extra == 0.0:
+            want = 1.0
+        else:
+            d = keys[None, :, :] - keys[:, None, :]  # from square i to square j, in squares
+            mass = stats.norm.cdf((d + 0.5) / extra) - stats.norm.cdf((d - 0.5) / extra)
+            want = float((w[:, None] * mass.prod(axis=2)).sum() / w.sum())
+        want = min(1.0, max(0.05, want))
+        assert res.false_overlap[source] == pytest.approx(want, rel=1e-7, abs=1e-12), source
+    # the fixes mostly fall outside the ships' squares, the radar reports (a few hundred
+    # metres) among them
+    assert res.false_overlap["hfdf"] < 0.5 and res.false_overlap["radar"] > 0.99
+    assert res.false_overlap["ais"] == 1.0
+
+
 def test_ships_geometry_cannot_separate_are_left_to_the_operator(rng):
     # two ships 30 m apart, each with an AIS track, and a radar track (2-sigma 300 m) of the first:
     # geography cannot tell which ship the radar sees, so neither pair may be a confident merge

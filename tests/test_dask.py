@@ -142,6 +142,7 @@ def assert_same(got, want) -> None:
     assert got.inflation == want.inflation
     assert got.coverage == want.coverage
     assert got.track_breaks == want.track_breaks
+    assert got.false_overlap == want.false_overlap
 
 
 def components_across_tiles(got, tile) -> int:

@@ -252,6 +252,8 @@ pub struct AssociationOutput {
     coverage: Py<PyArray1<f64>>,
     /// Per source: the odds of a further track of that source in one object.
     track_breaks: Py<PyArray1<f64>>,
+    /// Per source: the share of its track-seconds in the most complete source's cells.
+    false_overlap: Py<PyArray1<f64>>,
     /// Per component: tracks, partitions enumerated (0: sampled), method (0 exact, 1 sampled)
     /// and the largest standard error.
     component_tracks: Py<PyArray1<u32>>,
@@ -315,6 +317,7 @@ pub(super) fn result_output(
         inflation: arr(py, ic),
         coverage: arr(py, res.coverage),
         track_breaks: arr(py, res.track_breaks),
+        false_overlap: arr(py, res.false_overlap),
         component_tracks: arr(py, comps.iter().map(|c| c.tracks).collect()),
         component_partitions: arr(py, comps.iter().map(|c| c.partitions).collect()),
         component_method: arr(py, comps.iter().map(|c| c.method as u8).collect()),

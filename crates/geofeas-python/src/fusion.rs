@@ -174,11 +174,14 @@ pub(super) fn time_cover(py: Python<'_>, c: TimeCover) -> PyTimeCover {
     }
 }
 
-/// The picture counts of some tracks: per-source track-microseconds `micros`, the occupied
-/// cells `cell_source, cell_row, cell_col, cell_micros` and the time range `time`.
+/// The picture counts of some tracks: per-source track-microseconds `micros`, summed AOU
+/// reach `reach` (metres) and `reports`, the occupied cells `cell_source, cell_row, cell_col,
+/// cell_micros` and the time range `time`.
 #[pyclass(frozen, get_all, module = "geofeas._core")]
 pub struct PictureCounts {
     micros: Py<PyArray1<u64>>,
+    reach: Py<PyArray1<u64>>,
+    reports: Py<PyArray1<u64>>,
     cell_source: Py<PyArray1<u32>>,
     cell_row: Py<PyArray1<i64>>,
     cell_col: Py<PyArray1<i64>>,
@@ -204,6 +207,8 @@ pub(super) fn picture_counts(py: Python<'_>, c: &Counts) -> PictureCounts {
     let v: Vec<u64> = c.grid.values().copied().collect();
     PictureCounts {
         micros: c.micros.clone().into_pyarray(py).unbind(),
+        reach: c.reach.clone().into_pyarray(py).unbind(),
+        reports: c.reports.clone().into_pyarray(py).unbind(),
         cell_source: s.into_pyarray(py).unbind(),
         cell_row: row.into_pyarray(py).unbind(),
         cell_col: col.into_pyarray(py).unbind(),
@@ -373,6 +378,13 @@ fn counts_of(k: usize, d: &Bound<'_, PyDict>, geographic: bool, cell: f64) -> Py
             .ok_or_else(|| py_err(Error::Invalid(format!("counts[{k}]: missing '{name}'"))))
     };
     let micros: Vec<u64> = item("micros")?.extract()?;
+    let reach: Vec<u64> = item("reach")?.extract()?;
+    let reports: Vec<u64> = item("reports")?.extract()?;
+    if reach.len() != micros.len() || reports.len() != micros.len() {
+        return Err(py_err(Error::Invalid(format!(
+            "counts[{k}]: micros, reach and reports must have one entry per source"
+        ))));
+    }
     let s: Vec<u32> = item("cell_source")?.extract()?;
     let row: Vec<i64> = item("cell_row")?.extract()?;
     let col: Vec<i64> = item("cell_col")?.extract()?;
@@ -394,6 +406,8 @@ fn counts_of(k: usize, d: &Bound<'_, PyDict>, geographic: bool, cell: f64) -> Py
         micros,
         grid,
         time,
+        reach,
+        reports,
     })
 }
 

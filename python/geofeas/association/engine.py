@@ -68,6 +68,11 @@ class Association:
         ``{source: g_s}``: the odds, estimated from the picture, that an object a source sees
         gets a further track of that source (a track break, another pass of an aircraft); an
         object holding several tracks of one source weighs them (``docs/association.md``).
+    false_overlap : dict
+        ``{source: rho_s}``: the share of a source's reports that fall in the cells of the
+        most complete source, from how much wider its AOUs are; its false tracks are taken to
+        be spread as its reports are, so where the objects are their density is ``rho_s``
+        times the source's picture-wide rate (``docs/association.md``).
     reports : Reports
         The input.
     candidates : int
@@ -125,6 +130,9 @@ class Association:
         }
         self.track_breaks = {
             srcs[k]: float(g) for k, g in enumerate(np.asarray(raw.track_breaks)) if k < len(srcs)
+        }
+        self.false_overlap = {
+            srcs[k]: float(x) for k, x in enumerate(np.asarray(raw.false_overlap)) if k < len(srcs)
         }
         obj = np.asarray(raw.object, dtype=np.int64)
         per_track_source = np.empty(reports.n_tracks, dtype=np.intp)

@@ -367,10 +367,11 @@ def _home_counts(
     cover["track"] = gid[tracks]
     # the tile numbers sources among those it holds; map them to the picture's indices
     glob = np.searchsorted(sources, rep.sources).astype(np.int64)
-    micros = np.asarray(counts["micros"], dtype=np.uint64)
-    whole = np.zeros(int(glob.max()) + 1, dtype=np.uint64)
-    whole[glob[: len(micros)]] = micros
-    counts["micros"] = whole
+    for name in ("micros", "reach", "reports"):
+        per_source = np.asarray(counts[name], dtype=np.uint64)
+        whole = np.zeros(int(glob.max()) + 1, dtype=np.uint64)
+        whole[glob[: len(per_source)]] = per_source
+        counts[name] = whole
     counts["cell_source"] = glob[np.asarray(counts["cell_source"], np.intp)].astype(np.uint32)
     return dict(counts), cover
 
@@ -486,11 +487,12 @@ def _tile_size(
 class DistributedAssociation(Association):
     """:class:`geofeas.Association` computed on Dask.
 
-    ``pairs``, ``objects``, ``components``, ``coverage``, ``track_breaks``, ``inflation``,
-    ``candidates`` and ``options`` are those the single-machine :func:`geofeas.associate`
-    gives. The reports themselves stay where they were: ``reports`` holds the first report of
-    every track (enough for :meth:`assignment`), ``tracks`` the per-track summary with the
-    space-time boxes and ``tiles`` the number of tiles used.
+    ``pairs``, ``objects``, ``components``, ``coverage``, ``track_breaks``,
+    ``false_overlap``, ``inflation``, ``candidates`` and ``options`` are those the
+    single-machine :func:`geofeas.associate` gives. The reports themselves stay where they
+    were: ``reports`` holds the first report of every track (enough for :meth:`assignment`),
+    ``tracks`` the per-track summary with the space-time boxes and ``tiles`` the number of
+    tiles used.
     """
 
     def __init__(

@@ -26,8 +26,10 @@
 //! probability), and `F_s` is the probability that a track of source `s` is false were it
 //! alone ([`Picture::ln_not_false`]): a lone track is an object no other source sees (density
 //! `mu P_s prod_{s' != s} (1 - P_s')`) or a false track (density `phi_s`, from the share `f_s`
-//! of the source's tracks that are false, spread over the picture at its mean density), so
-//! `F_s = r / (r + (mu / mu_bar) prod_{s' != s} (1 - P_s'))` with `r = f_s / (1 - f_s)`. The
+//! of the source's tracks that are false, spread as the source's reports are: over the cells
+//! where the objects are, the share `rho_s` of them that its AOUs leave there,
+//! [`Picture::overlap`]), so
+//! `F_s = r / (r + (mu / mu_bar) prod_{s' != s} (1 - P_s'))` with `r = rho_s f_s / (1 - f_s)`. The
 //! posterior counts each track's `ln(1 - F)` once per object ([`PairEvidence::own`]).
 //!
 //! `kappa` is the prior odds of merging two objects seen by different sources. An object seen
@@ -129,6 +131,11 @@ pub struct Counts {
     pub grid: std::collections::BTreeMap<(u32, i64, i64), u64>,
     /// Earliest and latest report time.
     pub time: (f64, f64),
+    /// Per source: the sum over its reports of `sqrt(rx ry)`, the geometric mean of their
+    /// 2-sigma semi-axes, in whole metres (over [`Counts::reports`], the source's typical AOU).
+    pub reach: Vec<u64>,
+    /// Reports per source.
+    pub reports: Vec<u64>,
 }
 
 const EARTH_RADIUS: f64 = 6_371_008.8;
@@ -175,6 +182,8 @@ impl Counts {
             micros: Vec::new(),
             grid: Default::default(),
             time: (f64::INFINITY, f64::NEG_INFINITY),
+            reach: Vec::new(),
+            reports: Vec::new(),
         };
         for t in 0..r.n_tracks {
             let range = r.range(t);
@@ -182,6 +191,8 @@ impl Counts {
             let s = r.source[t];
             if out.micros.len() <= s as usize {
                 out.micros.resize(s as usize + 1, 0);
+                out.reach.resize(s as usize + 1, 0);
+                out.reports.resize(s as usize + 1, 0);
             }
             for (k, i) in range.enumerate() {
                 let next = times.get(k + 1).map(|&x| x - times[k]);
@@ -193,6 +204,9 @@ impl Counts {
                 };
                 let us = Self::to_micros(dt);
                 out.micros[s as usize] = out.micros[s as usize].saturating_add(us);
+                let reach = r.area[i].max(0.0).sqrt().round() as u64;
+                out.reach[s as usize] = out.reach[s as usize].saturating_add(reach);
+                out.reports[s as usize] = out.reports[s as usize].saturating_add(1);
                 let (row, col) = out.cell_of(r.state[i].pos);
                 let cell = out.grid.entry((s, row, col)).or_insert(0);
                 *cell = cell.saturating_add(us);
@@ -209,6 +223,17 @@ impl Counts {
         }
         for (s, v) in other.micros.iter().enumerate() {
             self.micros[s] = self.micros[s].saturating_add(*v);
+        }
+        for (mine, theirs) in [
+            (&mut self.reach, &other.reach),
+            (&mut self.reports, &other.reports),
+        ] {
+            if mine.len() < theirs.len() {
+                mine.resize(theirs.len(), 0);
+            }
+            for (s, v) in theirs.iter().enumerate() {
+                mine[s] = mine[s].saturating_add(*v);
+            }
         }
         for (k, v) in &other.grid {
             let cell = self.grid.entry(*k).or_insert(0);
@@ -230,6 +255,11 @@ pub struct Picture {
     mean: f64,
     /// Coverage `P_s` per source.
     pub coverage: Vec<f64>,
+    /// Per source, the share `rho_s` of its reports that fall in the cells the reference source
+    /// occupies ([`blurred_share`]), at least [`MIN_OVERLAP`]: its false tracks are spread as
+    /// its reports are, so over those cells their density is `rho_s` times the picture-wide
+    /// rate.
+    pub overlap: Vec<f64>,
     /// `ln kappa = -sum_s ln(1 - P_s)`.
     pub ln_kappa: f64,
     /// The most complete source.
@@ -285,12 +315,28 @@ impl Picture {
             })
             .collect();
         let ln_kappa = -coverage.iter().map(|p| (1.0 - p).ln()).sum::<f64>();
+        // the typical 1-sigma reach of each source's reports beyond the reference's own
+        let sigma = |s: usize| {
+            let n = counts.reports.get(s).copied().unwrap_or(0);
+            (n > 0).then(|| counts.reach[s] as f64 / n as f64 / 2.0)
+        };
+        let own_sigma = sigma(reference as usize).unwrap_or(0.0);
+        let overlap = (0..secs.len())
+            .map(|s| match sigma(s) {
+                Some(x) => {
+                    let extra = (x * x - own_sigma * own_sigma).max(0.0).sqrt();
+                    blurred_share(&own, extra / counts.cell).clamp(MIN_OVERLAP, 1.0)
+                }
+                None => 1.0,
+            })
+            .collect();
         Self {
             counts,
             density,
             floor,
             mean,
             coverage,
+            overlap,
             ln_kappa,
             reference,
         }
@@ -323,13 +369,64 @@ impl Picture {
         if f <= 0.0 {
             return 0.0;
         }
-        let r = f / (1.0 - f);
+        let rho = self.overlap.get(source as usize).copied().unwrap_or(1.0);
+        let r = f / (1.0 - f) * rho;
         let p = self.coverage.get(source as usize).copied().unwrap_or(0.5);
         // mu / mean * prod over the other sources of (1 - P)
         let q = (mu / self.mean) * (-self.ln_kappa).exp() / (1.0 - p);
         q.ln() - (r + q).ln()
     }
 }
+
+/// The share of the reference source's track-time that stays in its own cells when every
+/// position is displaced by an isotropic Gaussian of standard deviation `sigma` cells: each
+/// occupied cell's time, at the cell's centre, spread over the cells by the Gaussian's mass in
+/// each, and summed over the occupied ones, weighed by the cells' time. A source whose reports
+/// scatter about the objects `sigma` cells further than the reference's (its AOUs wider) has
+/// this share of its reports where the objects are. Exactly 1 at `sigma = 0`. The Gaussian is
+/// separable, so the sum is two passes of a one-dimensional kernel over the occupied cells and
+/// their neighbours, `O(cells x reach)`, the kernel cut at 6 sigma (and at the occupied
+/// extent).
+pub fn blurred_share(cells: &std::collections::BTreeMap<(i64, i64), f64>, sigma: f64) -> f64 {
+    let total: f64 = cells.values().sum();
+    // no time, or no displacement (a NaN reach included): everything stays
+    if total.is_nan() || total <= 0.0 || sigma.is_nan() || sigma <= 0.0 {
+        return 1.0;
+    }
+    let (mut lo, mut hi) = ((i64::MAX, i64::MAX), (i64::MIN, i64::MIN));
+    for &(r, c) in cells.keys() {
+        lo = (lo.0.min(r), lo.1.min(c));
+        hi = (hi.0.max(r), hi.1.max(c));
+    }
+    let extent = (hi.0 - lo.0).max(hi.1 - lo.1);
+    let reach = ((6.0 * sigma).ceil() as i64).min(extent).max(0);
+    let phi = |x: f64| 0.5 * (1.0 + statrs::function::erf::erf(x / std::f64::consts::SQRT_2));
+    let kernel: Vec<f64> = (-reach..=reach)
+        .map(|d| phi((d as f64 + 0.5) / sigma) - phi((d as f64 - 0.5) / sigma))
+        .collect();
+    // pass 1: along columns, at every cell within `reach` columns of an occupied one
+    let mut along: std::collections::HashMap<(i64, i64), f64> = Default::default();
+    for (&(r, c), &w) in cells {
+        for (j, k) in kernel.iter().enumerate() {
+            *along.entry((r, c + j as i64 - reach)).or_insert(0.0) += w * k;
+        }
+    }
+    // pass 2: along rows, read at the occupied cells only
+    let mut kept = 0.0;
+    for &(r, c) in cells.keys() {
+        for (j, k) in kernel.iter().enumerate() {
+            if let Some(v) = along.get(&(r + j as i64 - reach, c)) {
+                kept += v * k;
+            }
+        }
+    }
+    kept / total
+}
+
+/// The smallest share `rho_s` of a source's reports in the reference source's cells
+/// ([`Picture::overlap`]): a twentieth, as the density's floor is of its mean, so a source whose
+/// AOUs dwarf the picture still has false tracks where the objects are.
+pub const MIN_OVERLAP: f64 = 0.05;
 
 /// The smallest `g_s` of [`track_breaks`]: that of the most complete source, which the model
 /// takes to give each object it sees one track (as the density estimate does), and of a source
@@ -582,6 +679,7 @@ mod tests {
             floor: mu,
             mean: mu,
             coverage: vec![0.5, 0.5],
+            overlap: vec![1.0, 1.0],
             ln_kappa: 0.0,
             reference: 0,
         };
@@ -761,6 +859,122 @@ mod tests {
         }
     }
 
+    /// The Gaussian's mass in cell `d` about its centre's, `sigma` in cells.
+    fn cell_mass(d: i64, sigma: f64) -> f64 {
+        let phi = |x: f64| 0.5 * (1.0 + statrs::function::erf::erf(x / std::f64::consts::SQRT_2));
+        phi((d as f64 + 0.5) / sigma) - phi((d as f64 - 0.5) / sigma)
+    }
+
+    /// `blurred_share` against the double sum over every pair of occupied cells, on random
+    /// sparse pictures, and by hand: one cell keeps `(2 Phi(1 / (2 sigma)) - 1)^2`; nothing is
+    /// lost at `sigma = 0`.
+    #[test]
+    fn blurred_share_against_the_double_sum() {
+        let one: std::collections::BTreeMap<(i64, i64), f64> = [((3, -4), 7.0)].into();
+        for sigma in [0.1, 0.5, 1.0, 3.0] {
+            let want = (2.0
+                * (0.5
+                    * (1.0 + statrs::function::erf::erf(0.5 / sigma / std::f64::consts::SQRT_2)))
+                - 1.0)
+                .powi(2);
+            assert!((blurred_share(&one, sigma) - want).abs() < 1e-12, "{sigma}");
+        }
+        let mut state = 7u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..30 {
+            let mut cells = std::collections::BTreeMap::new();
+            let n = 1 + (next() * 60.0) as usize;
+            let span = 2.0 + next() * 40.0;
+            for _ in 0..n {
+                let key = ((next() * span) as i64 - 5, (next() * span) as i64 + 2);
+                *cells.entry(key).or_insert(0.0) += 0.5 + next() * 100.0;
+            }
+            let sigma = [0.0, 0.05, 0.7, 2.5, 9.0][case % 5] * (0.5 + next());
+            let total: f64 = cells.values().sum();
+            let mut kept = 0.0;
+            for (&(r, c), &w) in &cells {
+                for &(r2, c2) in cells.keys() {
+                    kept += if sigma > 0.0 {
+                        w * cell_mass(r2 - r, sigma) * cell_mass(c2 - c, sigma)
+                    } else {
+                        w * f64::from(u8::from((r, c) == (r2, c2)))
+                    };
+                }
+            }
+            let got = blurred_share(&cells, sigma);
+            assert!(
+                (got - kept / total).abs() < 1e-9,
+                "case {case}: {got} against {}",
+                kept / total
+            );
+        }
+        assert_eq!(blurred_share(&one, 0.0), 1.0);
+    }
+
+    /// `rho_s` and `F_s` by hand. The reference source (0) holds 400 s in cell (0, 0) and 200 s
+    /// in (0, 1), its reports' `sqrt(rx ry)` 20 m (`sigma` 10 m); source 1's are 2 km
+    /// (`sigma` 1 km, `sqrt(1000^2 - 10^2)` beyond the reference's, half a 2 km cell); source
+    /// 2's are 200 km, whose share is below the floor; source 3 has no report. With `f = 0.05`
+    /// (`r = 1 / 19`) and `mu = mu_bar`, `ln(1 - F_s) = ln q - ln(r rho_s + q)` with
+    /// `q = prod_{s' != s} (1 - P_s')`.
+    #[test]
+    fn false_tracks_are_spread_as_their_source_s_reports_are() {
+        let mut counts = Counts {
+            cell: 2_000.0,
+            geographic: false,
+            micros: vec![600_000_000, 120_000_000, 10_000_000, 0],
+            time: (0.0, 600.0),
+            reach: vec![20 * 50, 2_000 * 4, 200_000, 0],
+            reports: vec![50, 4, 1, 0],
+            ..Counts::default()
+        };
+        for (k, v) in [
+            ((0, 0, 0), 400_000_000),
+            ((0, 0, 1), 200_000_000),
+            ((1, 0, 0), 30_000_000),
+            ((1, 3, 7), 90_000_000),
+            ((2, 9, 9), 10_000_000),
+        ] {
+            counts.grid.insert(k, v);
+        }
+        let model = Model::default();
+        let picture = Picture::from_counts(counts, &model);
+        // source 1: each cell keeps its row's mass at d = 0 and the two cells share columns
+        let s1 = (1_000.0_f64.powi(2) - 10.0_f64.powi(2)).sqrt() / 2_000.0;
+        let rows = cell_mass(0, s1);
+        let cols = (400.0 * (cell_mass(0, s1) + cell_mass(1, s1))
+            + 200.0 * (cell_mass(0, s1) + cell_mass(-1, s1)))
+            / 600.0;
+        let rho1 = rows * cols;
+        assert_eq!(picture.overlap[0], 1.0);
+        assert!((picture.overlap[1] - rho1).abs() < 1e-12);
+        assert_eq!(picture.overlap[2], MIN_OVERLAP);
+        assert_eq!(picture.overlap[3], 1.0);
+        let p: Vec<f64> = [600.0, 120.0, 10.0, 0.0]
+            .iter()
+            .map(|s| (0.95 * s / 600.0_f64).clamp(0.001, 0.999))
+            .collect();
+        assert_eq!(picture.coverage, p);
+        let r = 0.05 / 0.95;
+        for (source, rho) in [(0usize, 1.0), (1, rho1), (2, MIN_OVERLAP), (3, 1.0)] {
+            let q: f64 = (0..4)
+                .filter(|&x| x != source)
+                .map(|x| 1.0 - p[x])
+                .product();
+            let by_hand = q.ln() - (r * rho + q).ln();
+            let got = picture.ln_not_false(&model, source as u32, picture.mean);
+            assert!(
+                (got - by_hand).abs() < 1e-12,
+                "source {source}: {got} against {by_hand}"
+            );
+        }
+    }
+
     #[test]
     fn counts_are_the_reports_durations() {
         // one track: reports at 0, 10, 1000 s; max gap 300 s -> 10 + 300 + 300 (the last report
@@ -776,6 +990,8 @@ mod tests {
         .unwrap();
         let c = Counts::of(&r, 2_000.0, 300.0);
         assert_eq!(c.micros, vec![610_000_000]);
+        // sqrt(rx ry) = 5 m per report
+        assert_eq!((c.reach.clone(), c.reports.clone()), (vec![15], vec![3]));
         assert_eq!(c.grid.get(&(0, 0, 0)), Some(&610_000_000));
         assert_eq!(c.time, (0.0, 1000.0));
     }

@@ -170,6 +170,9 @@ pub struct Association {
     pub components: Vec<posterior::ComponentInfo>,
     /// Coverage `P_s` estimated per source.
     pub coverage: Vec<f64>,
+    /// Per source, the share `rho_s` of its track-seconds in the most complete source's cells,
+    /// over which its false tracks are spread ([`evidence::Picture::overlap`]).
+    pub false_overlap: Vec<f64>,
     /// Odds `g_s` of a further track of a source in one object, estimated per source
     /// ([`evidence::track_breaks`]).
     pub track_breaks: Vec<f64>,
@@ -635,6 +638,7 @@ pub fn finish(
         return Err(Error::Interrupted);
     }
     res.coverage = picture.coverage.clone();
+    res.false_overlap = picture.overlap.clone();
     let evidence: Vec<evidence::PairEvidence> = kept
         .par_iter()
         .zip(scale.par_iter())
