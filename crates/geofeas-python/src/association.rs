@@ -252,7 +252,7 @@ pub struct AssociationOutput {
     coverage: Py<PyArray1<f64>>,
     /// Per source: the odds of a further track of that source in one object.
     track_breaks: Py<PyArray1<f64>>,
-    /// Per source: the share of its track-seconds in the most complete source's cells.
+    /// Per source: the share of its reports its AOUs leave in the most complete source's cells.
     false_overlap: Py<PyArray1<f64>>,
     /// Per component: tracks, partitions enumerated (0: sampled), method (0 exact, 1 sampled)
     /// and the largest standard error.

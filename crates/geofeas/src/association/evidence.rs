@@ -400,10 +400,7 @@ pub fn blurred_share(cells: &std::collections::BTreeMap<(i64, i64), f64>, sigma:
     }
     let extent = (hi.0 - lo.0).max(hi.1 - lo.1);
     let reach = ((6.0 * sigma).ceil() as i64).min(extent).max(0);
-    let phi = |x: f64| 0.5 * (1.0 + statrs::function::erf::erf(x / std::f64::consts::SQRT_2));
-    let kernel: Vec<f64> = (-reach..=reach)
-        .map(|d| phi((d as f64 + 0.5) / sigma) - phi((d as f64 - 0.5) / sigma))
-        .collect();
+    let kernel: Vec<f64> = (-reach..=reach).map(|d| cell_mass(d, sigma)).collect();
     // pass 1: along columns, at every cell within `reach` columns of an occupied one
     let mut along: std::collections::HashMap<(i64, i64), f64> = Default::default();
     for (&(r, c), &w) in cells {
@@ -421,6 +418,13 @@ pub fn blurred_share(cells: &std::collections::BTreeMap<(i64, i64), f64>, sigma:
         }
     }
     kept / total
+}
+
+/// The mass of a centred Gaussian of standard deviation `sigma` (in cells, `> 0`) in the cell
+/// `d` cells from its centre's, along one axis.
+pub fn cell_mass(d: i64, sigma: f64) -> f64 {
+    let phi = |x: f64| 0.5 * (1.0 + statrs::function::erf::erf(x / std::f64::consts::SQRT_2));
+    phi((d as f64 + 0.5) / sigma) - phi((d as f64 - 0.5) / sigma)
 }
 
 /// The smallest share `rho_s` of a source's reports in the reference source's cells
@@ -859,15 +863,10 @@ mod tests {
         }
     }
 
-    /// The Gaussian's mass in cell `d` about its centre's, `sigma` in cells.
-    fn cell_mass(d: i64, sigma: f64) -> f64 {
-        let phi = |x: f64| 0.5 * (1.0 + statrs::function::erf::erf(x / std::f64::consts::SQRT_2));
-        phi((d as f64 + 0.5) / sigma) - phi((d as f64 - 0.5) / sigma)
-    }
-
     /// `blurred_share` against the double sum over every pair of occupied cells, on random
-    /// sparse pictures, and by hand: one cell keeps `(2 Phi(1 / (2 sigma)) - 1)^2`; nothing is
-    /// lost at `sigma = 0`.
+    /// sparse pictures (the two passes and the kernel's cut against no cut), and by hand from
+    /// `erf`: one cell keeps `(2 Phi(1 / (2 sigma)) - 1)^2`, which also checks `cell_mass`;
+    /// nothing is lost at `sigma = 0`.
     #[test]
     fn blurred_share_against_the_double_sum() {
         let one: std::collections::BTreeMap<(i64, i64), f64> = [((3, -4), 7.0)].into();

@@ -170,8 +170,9 @@ pub struct Association {
     pub components: Vec<posterior::ComponentInfo>,
     /// Coverage `P_s` estimated per source.
     pub coverage: Vec<f64>,
-    /// Per source, the share `rho_s` of its track-seconds in the most complete source's cells,
-    /// over which its false tracks are spread ([`evidence::Picture::overlap`]).
+    /// Per source, the share `rho_s` of its reports that its AOUs, wider than the most complete
+    /// source's, leave in that source's cells, where its false tracks are counted
+    /// ([`evidence::Picture::overlap`]).
     pub false_overlap: Vec<f64>,
     /// Odds `g_s` of a further track of a source in one object, estimated per source
     /// ([`evidence::track_breaks`]).
