@@ -4,13 +4,14 @@
 
 For every real HF DF track of a simulated picture (``geofeas.demo.scenario.simulate``), an
 oracle that knows every vessel's true path and the exact law of the fixes' errors gives the
-posterior of each vessel being the emitter (``geofeas.demo.evaluate.emitter_posterior``). No
-method that sees only the tracks knows more. Its candidate pairs with a vessel's tracks are a
-group: true with the oracle's probability ``q``. The fewest borderline pairs that any triage
-can leave among the HF DF pairs while it loses at most 1 % of the picture's true pairs to
-``non-match`` in expectation is the bound of ``geofeas.demo.evaluate.borderline_bound`` (the
-whole 1 % budget given to HF DF, none to the other pairs; ``oracle_borderline``, which
-``geofeas demo`` prints). Printed per
+posterior of each vessel being the emitter (``geofeas.demo.evaluate.emitter_posterior``),
+judging each fix track alone: what a method that sees only the tracks can know beyond it comes
+from the other fix tracks at overlapping times, by exclusion, which is little here. Its
+candidate pairs with a vessel's tracks are a group: true with the oracle's probability ``q``.
+The fewest borderline pairs that any triage can leave among the HF DF pairs while it loses at
+most 1 % of the picture's true pairs to ``non-match`` in expectation is the bound of
+``geofeas.demo.evaluate.borderline_bound`` (the whole 1 % budget given to HF DF, none to the
+other pairs; ``oracle_borderline``, which ``geofeas demo`` prints). Printed per
 seed, beside what ``geofeas.associate`` (defaults) does on the same picture, and, to compare the
 two posteriors rather than the two triage rules, the oracle's groups classed by the defaults'
 thresholds (0.01 and 0.99: borderline pairs, expected true pairs lost) and where each puts its

@@ -9,8 +9,8 @@ default association: the operator load (borderline pairs per true duplicate), th
 the automatic merges, the true pairs lost to non-match, the calibration of p_same (expected
 calibration error), the F1 a truthful operator reaches after 0, 25, 50, 100 and 200
 decisions in review order, and, with HF DF, the fewest borderline HF DF pairs any triage can
-leave while losing at most 1 % of the true pairs (an oracle's bound: what geometry cannot
-decide). Writes into ``--out``: ``reports.csv`` (the simulated reports, with
+leave while losing at most 1 % of the true pairs (an oracle's bound, each fix judged alone:
+what geometry cannot decide). Writes into ``--out``: ``reports.csv`` (the simulated reports, with
 the truth column ``mmsi``; ``geofeas associate`` reads it), ``pairs.csv`` (the default
 association's candidate pairs with the truth), ``metrics.csv`` and ``metrics.md``,
 ``metrics_by_sources.csv``, ``calibration.csv`` and ``calibration.png`` (the reliability
