@@ -14,7 +14,16 @@ import numpy as np
 
 from . import _core
 
-__all__ = ["WGS84_A", "WGS84_F", "direct", "inverse", "metres_per_degree"]
+__all__ = [
+    "WGS84_A",
+    "WGS84_F",
+    "delta_lon",
+    "direct",
+    "inverse",
+    "median_lon",
+    "metres_per_degree",
+    "wrap_lon",
+]
 
 #: WGS84 semi-major axis (m) and flattening, as the core uses them.
 WGS84_A: float = _core.WGS84_A
@@ -57,3 +66,23 @@ def metres_per_degree(lat: Any) -> tuple[np.ndarray, np.ndarray]:
     m = WGS84_A * (1 - _E2) / w**3
     n = WGS84_A / w
     return np.radians(1.0) * m, np.radians(1.0) * n * np.cos(p)
+
+
+def wrap_lon(lon: Any) -> np.ndarray:
+    """Longitudes (degrees) brought into ``[-180, 180)``."""
+    return (np.asarray(lon, dtype=np.float64) + 180.0) % 360.0 - 180.0
+
+
+def delta_lon(lon: Any, lon0: Any) -> np.ndarray:
+    """``lon - lon0`` (degrees) the short way round, in ``[-180, 180)``: across the antimeridian
+    179.9 - (-179.9) is -0.2, not 359.8."""
+    return wrap_lon(np.asarray(lon, dtype=np.float64) - np.asarray(lon0, dtype=np.float64))
+
+
+def median_lon(lon: Any) -> float:
+    """The median of longitudes (degrees) that lie within half a turn of one another, taken
+    about the first, so that points on both sides of the antimeridian have theirs on it."""
+    lon = np.asarray(lon, dtype=np.float64).ravel()
+    if lon.size == 0:
+        return float("nan")
+    return float(wrap_lon(lon[0] + np.median(delta_lon(lon, lon[0]))))

@@ -26,7 +26,7 @@ import pandas as pd
 from .._atomic import atomic_path, save_figure, write_text
 from .._core import GeofeasError
 from ..association import COMBINE_RULES, associate, read_reports
-from ..geodesy import metres_per_degree
+from ..geodesy import delta_lon, median_lon, metres_per_degree, wrap_lon
 from ..io.ais import AisRecording, read_ais
 from .evaluate import (
     Metrics,
@@ -124,7 +124,8 @@ class DemoResult:
     ece: float = math.nan
     #: F1 after each number of truthful operator decisions (:func:`simulate_operator`).
     operator: pd.DataFrame | None = None
-    #: With one HF DF source: the fewest borderline HF DF pairs any triage can leave while it
+    #: With one HF DF source: the fewest borderline HF DF pairs any triage can leave (by an
+    #: oracle that judges each fix track alone) while it
     #: loses at most 1 % of the true pairs (:func:`geofeas.demo.evaluate.oracle_borderline`).
     oracle_borderline: float = math.nan
 
@@ -282,15 +283,19 @@ def busy_window(
     best = int(per_bin.drop_duplicates().groupby("b").size().idxmax())
     sel = bins == best
     snap = reports[sel]
-    lat0, lon0 = float(np.median(snap["lat"])), float(np.median(snap["lon"]))
+    lat0, lon0 = float(np.median(snap["lat"])), median_lon(snap["lon"])
     m_lat, m_lon = metres_per_degree(lat0)
-    x = (snap["lon"].to_numpy() - lon0) * m_lon
+    x = delta_lon(snap["lon"].to_numpy(), lon0) * m_lon
     y = (snap["lat"].to_numpy() - lat0) * m_lat
     inside = (np.abs(x[:, None] - x[None, :]) <= size / 2) & (
         np.abs(y[:, None] - y[None, :]) <= size / 2
     )
     k = int(np.argmax(inside.sum(axis=1)))
-    return lat0 + y[k] / m_lat, lon0 + x[k] / m_lon, float(sec.min() + (best + 1) * window)
+    return (
+        lat0 + y[k] / m_lat,
+        float(wrap_lon(lon0 + x[k] / m_lon)),
+        float(sec.min() + (best + 1) * window),
+    )
 
 
 def plot_map(
@@ -323,7 +328,7 @@ def plot_map(
     sel = (sec > t_c - window) & (sec <= t_c)
     snap = rep[sel].assign(t=sec[sel])
     snap = snap.sort_values("t").groupby("track_id").tail(1)
-    x = (snap["lon"].to_numpy() - lon_c) * m_lon
+    x = delta_lon(snap["lon"].to_numpy(), lon_c) * m_lon
     y = (snap["lat"].to_numpy() - lat_c) * m_lat
     half = size / 2 * 1.2
     objects = result.default.objects

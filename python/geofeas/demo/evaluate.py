@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from .._core import GeofeasError
+from ..geodesy import delta_lon
 
 __all__ = [
     "Metrics",
@@ -427,8 +428,13 @@ def emitter_posterior(scenario: Any, recording: Any, *, source: str = "hfdf") ->
     the simulated HF DF fixes are. With the uniform prior over the vessels that the simulation
     draws its emitters from, the posterior of vessel ``v`` is proportional to
     ``prod_j N(x_j - v(t_j); 0, R_j)`` over the track's reports, among the vessels whose path
-    is known at every report time. No method that sees only the tracks knows more: the other
-    tracks' errors are independent of which vessel emitted, given the true paths.
+    is known at every report time. It judges the track alone. Given the true paths, the other
+    tracks' errors are independent of which vessel emitted it, so they add nothing, except by
+    exclusion: a track of the same source at overlapping times that is known to be vessel
+    ``v`` rules ``v`` out (one emitter, one track at a time). For the HF DF fixes, of a tenth
+    of the vessels, that is little; for the patrol aircraft's tracks over a berth it is not,
+    and there the model can leave fewer borderline pairs than this oracle
+    (``docs/association.md``, "Calibration and the operator").
 
     Returns one row per (track, vessel) with posterior ``q > 1e-12``: ``track_id``, ``mmsi``,
     ``q``, and ``reports`` (the track's number of reports).
@@ -454,7 +460,7 @@ def emitter_posterior(scenario: Any, recording: Any, *, source: str = "hfdf") ->
             v_lat, v_lon, known = truth.vessel(k, t)
             if not known.all():
                 continue
-            d = np.stack([(lon - v_lon) * m_lon, (lat - v_lat) * m_lat], axis=-1)
+            d = np.stack([delta_lon(lon, v_lon) * m_lon, (lat - v_lat) * m_lat], axis=-1)
             ll[k] = -0.5 * np.einsum("ni,nij,nj->", d, inv, d)
         if not np.isfinite(ll).any():
             continue
@@ -475,8 +481,8 @@ def borderline_bound(q: Any, n: Any, budget: float, *, p_match: float = 0.99) ->
     A group may be sent to ``non-match`` at an expected cost of ``q n`` true pairs lost, or kept
     (``borderline``, ``n`` pairs; groups with ``q >= p_match`` may be merged instead and cost
     nothing here). The bound is the fractional relaxation of that knapsack, solved exactly by
-    sending the least probable groups to ``non-match`` first: no triage, however it is made, can
-    leave fewer borderline pairs in expectation.
+    sending the least probable groups to ``non-match`` first: if ``q`` is all there is to know,
+    no triage, however it is made, can leave fewer borderline pairs in expectation.
     """
     q = np.asarray(q, dtype=np.float64)
     n = np.asarray(n, dtype=np.float64)

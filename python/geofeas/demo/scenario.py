@@ -41,7 +41,7 @@ import pandas as pd
 
 from .. import geodesy
 from .._core import GeofeasError
-from ..geodesy import metres_per_degree
+from ..geodesy import delta_lon, median_lon, metres_per_degree, wrap_lon
 from ..io.ais import AisRecording
 from ..scores import from_gaussian, to_gaussian
 
@@ -178,7 +178,7 @@ class Truth:
         j = np.clip(np.searchsorted(tv, q, side="right"), 1, len(tv) - 1)
         gap = tv[j] - tv[j - 1]
         m_lat, m_lon = metres_per_degree(la[j])
-        step = np.hypot((la[j] - la[j - 1]) * m_lat, (lo[j] - lo[j - 1]) * m_lon)
+        step = np.hypot((la[j] - la[j - 1]) * m_lat, delta_lon(lo[j], lo[j - 1]) * m_lon)
         good = inside & (
             (gap <= self.max_gap)
             | ((gap <= self.max_still_gap) & (step <= self.still_distance))
@@ -186,7 +186,8 @@ class Truth:
             | (q == tv[j])
         )
         lat[good] = np.interp(q[good], tv, la)
-        lon[good] = np.interp(q[good], tv, lo)
+        # across the antimeridian: interpolate the unwrapped longitudes, then wrap
+        lon[good] = wrap_lon(np.interp(q[good], tv, np.unwrap(lo, period=360.0)))
         return lat, lon, good
 
     def at(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -343,7 +344,7 @@ class Scenario:
 
 def _traffic_centre(rec: AisRecording) -> tuple[float, float]:
     t = rec.tracks
-    return float(np.median(t["lat"])), float(np.median(t["lon"]))
+    return float(np.median(t["lat"])), median_lon(t["lon"])
 
 
 def choose_radar_site(
@@ -359,7 +360,7 @@ def choose_radar_site(
     t = rec.tracks
     lat0, lon0 = _traffic_centre(rec)
     m_lat, m_lon = metres_per_degree(lat0)
-    x = (t["lon"].to_numpy() - lon0) * m_lon
+    x = delta_lon(t["lon"].to_numpy(), lon0) * m_lon
     y = (t["lat"].to_numpy() - lat0) * m_lat
     lo_x, hi_x = np.quantile(x, [0.02, 0.98])
     lo_y, hi_y = np.quantile(y, [0.02, 0.98])
@@ -390,7 +391,7 @@ def choose_radar_site(
         py = y0 + (free[:, 1] + 0.5) * cell
         k = int(np.argmin(np.hypot(px - dense[0], py - dense[1])))
         sx, sy = px[k], py[k]
-    return lat0 + sy / m_lat, lon0 + sx / m_lon
+    return lat0 + sy / m_lat, float(wrap_lon(lon0 + sx / m_lon))
 
 
 def _iso(seconds: np.ndarray) -> np.ndarray:
@@ -609,7 +610,7 @@ def _aircraft_path(
     lat0, lon0 = _traffic_centre(rec)
     t = rec.tracks
     m_lat, m_lon = metres_per_degree(lat0)
-    spread = np.median(np.hypot((t["lat"] - lat0) * m_lat, (t["lon"] - lon0) * m_lon))
+    spread = np.median(np.hypot((t["lat"] - lat0) * m_lat, delta_lon(t["lon"], lon0) * m_lon))
     radius = sensor.orbit_radius or float(np.clip(spread, 3000.0, 15000.0))
     omega = sensor.speed / radius
     ang = omega * (times - times[0]) if len(times) else times

@@ -15,7 +15,7 @@ from typing import Any, cast
 
 import numpy as np
 
-from ..geodesy import metres_per_degree
+from ..geodesy import delta_lon, metres_per_degree
 from .station import PairDetail
 
 __all__ = ["BANDS", "distance_svg", "map_svg", "pair_payload"]
@@ -113,7 +113,7 @@ def map_svg(d: PairDetail) -> str:
             coast_note = "coastline: GSHHG 2.3"
             box = (lat0 + y0 / m_lat, lon0 + x0 / m_lon, lat0 + y1 / m_lat, lon0 + x1 / m_lon)
             for line in c.clip(*box):
-                xy = np.c_[(line[:, 0] - lon0) * m_lon, (line[:, 1] - lat0) * m_lat]
+                xy = np.c_[delta_lon(line[:, 0], lon0) * m_lon, (line[:, 1] - lat0) * m_lat]
                 out.append(f'<polyline class="coast" points="{_path(fr, xy)}"/>')
     # rival tracks, faded
     for name, e in d.rivals.items():

@@ -23,7 +23,7 @@ import pandas as pd
 from .. import _core
 from .._core import GeofeasError
 from ..association import Association, Reports, associate, read_reports
-from ..geodesy import metres_per_degree
+from ..geodesy import delta_lon, median_lon, metres_per_degree
 from .coast import Coastline, coastline
 from .log import DecisionLog, spans_of
 
@@ -368,7 +368,7 @@ class Station:
         sigma = np.sqrt(np.asarray(raw.m) / infl)
         pos = np.r_[sa[:, :2], sb[:, :2]]
         if geographic and len(pos):
-            lat0, lon0 = float(np.median(pos[:, 0])), float(np.median(pos[:, 1]))
+            lat0, lon0 = float(np.median(pos[:, 0])), median_lon(pos[:, 1])
             origin: tuple[float, float] | None = (lat0, lon0)
         else:
             lat0 = lon0 = 0.0
@@ -378,7 +378,7 @@ class Station:
             if origin is None:
                 return p[:, :2].copy()
             m_lat, m_lon = metres_per_degree(lat0)
-            return np.c_[(p[:, 1] - lon0) * m_lon, (p[:, 0] - lat0) * m_lat]
+            return np.c_[delta_lon(p[:, 1], lon0) * m_lon, (p[:, 0] - lat0) * m_lat]
 
         ell_a = np.c_[local(sa), ellipses(sa[:, 2:5])]
         ell_b = np.c_[local(sb), ellipses(sb[:, 2:5])]
