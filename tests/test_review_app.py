@@ -256,6 +256,46 @@ def test_coastline_is_the_isle_of_wight():
     assert metres(50.52, -1.30) > 4000
 
 
+def test_a_coastline_clips_on_either_side_of_the_antimeridian():
+    """A line across 180 degrees written east of it (179.9 to 180.1) clips the same in a box
+    written west of it (-180.05 to -179.95), its longitudes brought into that box's range."""
+    from geofeas.review.coast import Coastline
+
+    c = Coastline([np.array([[179.9, -17.0], [180.1, -16.9]])], "test")
+    (part,) = c.clip(-17.5, -180.05, -16.5, -179.95)
+    np.testing.assert_allclose(part[:, 0], [-180.05, -179.95])
+    np.testing.assert_allclose(part[:, 1], [-16.975, -16.925])
+    (same,) = c.clip(-17.5, 179.95, -16.5, 180.05)
+    np.testing.assert_allclose(same[:, 0], [179.95, 180.05])
+    assert c.clip(-17.5, 10.0, -16.5, 11.0) == []
+
+
+def test_taveuni_s_coastline_across_the_antimeridian():
+    """Taveuni (Fiji), which the 180th meridian crosses: its shoreline read for a box written
+    east of 180 degrees and for the same box written west of it is the same, and lies on both
+    sides of the meridian."""
+    import shapely
+
+    from geofeas.review.coast import coastline
+
+    if gshhg_file() is None:
+        pytest.skip("no GSHHG file installed (apt-get install gmt-gshhg-high)")
+    east = coastline(-17.2, 179.7, -16.6, 180.3)
+    west = coastline(-17.2, -180.3, -16.6, -179.7)
+    xs = np.concatenate([line[:, 0] for line in east.lines])
+    assert (xs < 180).any() and (xs > 180).any()
+
+    def length(lines):
+        return shapely.MultiLineString(lines).length
+
+    assert length(east.lines) > 0.5  # degrees of shoreline
+    assert length(west.lines) == pytest.approx(length(east.lines), rel=1e-9)
+    # clipping one with the other's box keeps it all
+    clipped = east.clip(-17.2, -180.3, -16.6, -179.7)
+    assert length(clipped) == pytest.approx(length(east.lines), rel=1e-9)
+    assert all(((line[:, 0] >= -180.3) & (line[:, 0] <= -179.7)).all() for line in clipped)
+
+
 def test_ellipses_match_an_eigen_decomposition(rng):
     from geofeas.review.station import _aou_cov, ellipses
 

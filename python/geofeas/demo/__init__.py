@@ -365,7 +365,7 @@ def plot_map(
         coast, lines = Coastline([], None), []
     for line in lines:
         ax.plot(
-            (line[:, 0] - lon_c) * m_lon / 1000,
+            delta_lon(line[:, 0], lon_c) * m_lon / 1000,
             (line[:, 1] - lat_c) * m_lat / 1000,
             color="#8a6d3b",
             lw=1.0,

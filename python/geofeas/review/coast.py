@@ -49,20 +49,24 @@ class Coastline:
         self._geometry: object = None
 
     def clip(self, south: float, west: float, north: float, east: float) -> list[np.ndarray]:
-        """The polylines inside a smaller box (in memory: no file is read)."""
+        """The polylines inside a smaller box (in memory: no file is read), with longitudes in
+        the box's range. Near the antimeridian the box and the lines may be written on either
+        side of it (179.9 or -180.1): each turn of 360 degrees is tried."""
         import shapely
 
         if not self.lines:
             return []
         if self._geometry is None:
             self._geometry = shapely.MultiLineString(self.lines)
-        clipped = shapely.clip_by_rect(self._geometry, west, south, east, north)
-        parts = getattr(clipped, "geoms", [clipped])
-        return [
-            np.asarray(g.coords, dtype=np.float64)
-            for g in parts
-            if not g.is_empty and g.geom_type == "LineString"
-        ]
+        out: list[np.ndarray] = []
+        for turn in (-360.0, 0.0, 360.0):
+            clipped = shapely.clip_by_rect(self._geometry, west + turn, south, east + turn, north)
+            for g in getattr(clipped, "geoms", [clipped]):
+                if not g.is_empty and g.geom_type == "LineString":
+                    xy = np.asarray(g.coords, dtype=np.float64)
+                    xy[:, 0] -= turn
+                    out.append(xy)
+        return out
 
 
 @functools.lru_cache(maxsize=32)

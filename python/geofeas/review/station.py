@@ -182,11 +182,14 @@ class Station:
             return Coastline([], None)
         lat, lon = self.reports.aou[:, 0], self.reports.aou[:, 1]
         pad = 0.05
+        # longitudes about their median, so that a picture across 180 degrees is one box
+        lon0 = median_lon(lon)
+        d = delta_lon(lon, lon0)
         return coastline(
             float(lat.min()) - pad,
-            float(lon.min()) - pad,
+            lon0 + float(d.min()) - pad,
             float(lat.max()) + pad,
-            float(lon.max()) + pad,
+            lon0 + float(d.max()) + pad,
         )
 
     def _compute(self) -> Snapshot:
