@@ -296,6 +296,37 @@ def test_taveuni_s_coastline_across_the_antimeridian():
     assert all(((line[:, 0] >= -180.3) & (line[:, 0] <= -179.7)).all() for line in clipped)
 
 
+def test_the_station_s_coastline_box_across_the_antimeridian():
+    """A picture off Taveuni with reports on both sides of 180 degrees gets its coastline: the
+    station's box is taken about the median longitude, not from -180 to 180."""
+    import types
+
+    import pandas as pd
+
+    from geofeas import read_reports
+    from geofeas.review.station import Station
+
+    if gshhg_file() is None:
+        pytest.skip("no GSHHG file installed (apt-get install gmt-gshhg-high)")
+    pic = pd.DataFrame(
+        {
+            "track_id": ["a", "a", "b"],
+            "source": ["ais", "ais", "radar"],
+            "time": [0.0, 10.0, 5.0],
+            "lat": [-16.85, -16.86, -16.9],
+            "lon": [179.95, -179.98, -179.9],
+            "rx": [20.0, 20.0, 100.0],
+            "ry": [20.0, 20.0, 40.0],
+            "bearing": [0.0, 0.0, 30.0],
+        }
+    )
+    coast = Station._coastline(types.SimpleNamespace(reports=read_reports(pic)))
+    assert coast.source is not None and coast.lines
+    # the box is written about the median longitude (here west of 180): the shore on both sides
+    xs = np.concatenate([line[:, 0] for line in coast.lines])
+    assert xs.min() < -180.0 < xs.max() or xs.min() < 180.0 < xs.max()
+
+
 def test_ellipses_match_an_eigen_decomposition(rng):
     from geofeas.review.station import _aou_cov, ellipses
 

@@ -69,8 +69,11 @@ def metres_per_degree(lat: Any) -> tuple[np.ndarray, np.ndarray]:
 
 
 def wrap_lon(lon: Any) -> np.ndarray:
-    """Longitudes (degrees) brought into ``[-180, 180)``."""
-    return (np.asarray(lon, dtype=np.float64) + 180.0) % 360.0 - 180.0
+    """Longitudes (degrees) brought into ``[-180, 180)``; those already in it are returned as
+    they are, to the bit."""
+    lon = np.asarray(lon, dtype=np.float64)
+    inside = (lon >= -180.0) & (lon < 180.0)
+    return np.where(inside, lon, (lon + 180.0) % 360.0 - 180.0)
 
 
 def delta_lon(lon: Any, lon0: Any) -> np.ndarray:
@@ -81,8 +84,11 @@ def delta_lon(lon: Any, lon0: Any) -> np.ndarray:
 
 def median_lon(lon: Any) -> float:
     """The median of longitudes (degrees) that lie within half a turn of one another, taken
-    about the first, so that points on both sides of the antimeridian have theirs on it."""
+    about the first, so that points on both sides of the antimeridian have theirs on it; the
+    plain median when they do not straddle it."""
     lon = np.asarray(lon, dtype=np.float64).ravel()
     if lon.size == 0:
         return float("nan")
+    if lon.max() - lon.min() <= 180.0:
+        return float(np.median(lon))
     return float(wrap_lon(lon[0] + np.median(delta_lon(lon, lon[0]))))

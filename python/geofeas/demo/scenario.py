@@ -135,7 +135,8 @@ class Truth:
     Between two reports of a vessel its position is interpolated linearly when the reports are
     at most ``max_gap`` seconds apart, or (a vessel at anchor or moored, which reports only every
     3 min) at most ``max_still_gap`` apart and less than ``still_distance`` metres apart. Elsewhere
-    the truth is unknown and no sensor sees the vessel.
+    the truth is unknown and no sensor sees the vessel. Longitudes are interpolated along each
+    vessel's path continued across the antimeridian (``_path_lon``, computed once) and wrapped.
     """
 
     mmsi: np.ndarray
@@ -146,6 +147,20 @@ class Truth:
     max_gap: float = 180.0
     max_still_gap: float = 900.0
     still_distance: float = 100.0
+    #: each vessel's longitudes made continuous (no jump of 360 degrees between two reports)
+    _path_lon: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        # a whole turn added after each crossing of the antimeridian (a step of more than half a
+        # turn between two reports), counted from each vessel's first report: a path that never
+        # crosses keeps its longitudes to the bit
+        lon = np.asarray(self.lon, dtype=np.float64)
+        step = np.diff(lon)
+        turn = np.where(step > 180.0, -1, np.where(step < -180.0, 1, 0))
+        turns = np.concatenate([[0], np.cumsum(turn)])[: len(lon)]
+        starts = np.asarray(self.offsets[:-1], dtype=np.int64)
+        turns -= np.repeat(turns[starts], np.diff(self.offsets))
+        object.__setattr__(self, "_path_lon", lon + 360.0 * turns)
 
     @classmethod
     def from_recording(cls, rec: AisRecording, **options: float) -> Truth:
@@ -170,15 +185,15 @@ class Truth:
         lat = np.full(q.shape, np.nan)
         lon = np.full(q.shape, np.nan)
         a, b = self.offsets[k], self.offsets[k + 1]
-        tv, la, lo = self.time[a:b], self.lat[a:b], self.lon[a:b]
+        tv, la, lo = self.time[a:b], self.lat[a:b], self._path_lon[a:b]
         inside = (q >= tv[0]) & (q <= tv[-1])
         if len(tv) == 1 or not inside.any():
-            lat[inside], lon[inside] = la[0], lo[0]
+            lat[inside], lon[inside] = la[0], self.lon[a]
             return lat, lon, inside
         j = np.clip(np.searchsorted(tv, q, side="right"), 1, len(tv) - 1)
         gap = tv[j] - tv[j - 1]
         m_lat, m_lon = metres_per_degree(la[j])
-        step = np.hypot((la[j] - la[j - 1]) * m_lat, delta_lon(lo[j], lo[j - 1]) * m_lon)
+        step = np.hypot((la[j] - la[j - 1]) * m_lat, (lo[j] - lo[j - 1]) * m_lon)
         good = inside & (
             (gap <= self.max_gap)
             | ((gap <= self.max_still_gap) & (step <= self.still_distance))
@@ -186,8 +201,7 @@ class Truth:
             | (q == tv[j])
         )
         lat[good] = np.interp(q[good], tv, la)
-        # across the antimeridian: interpolate the unwrapped longitudes, then wrap
-        lon[good] = wrap_lon(np.interp(q[good], tv, np.unwrap(lo, period=360.0)))
+        lon[good] = wrap_lon(np.interp(q[good], tv, lo))
         return lat, lon, good
 
     def at(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -59,7 +59,10 @@ class Coastline:
         if self._geometry is None:
             self._geometry = shapely.MultiLineString(self.lines)
         out: list[np.ndarray] = []
+        lo, _, hi, _ = self._geometry.bounds  # type: ignore[attr-defined]
         for turn in (-360.0, 0.0, 360.0):
+            if west + turn > hi or east + turn < lo:
+                continue
             clipped = shapely.clip_by_rect(self._geometry, west + turn, south, east + turn, north)
             for g in getattr(clipped, "geoms", [clipped]):
                 if not g.is_empty and g.geom_type == "LineString":
