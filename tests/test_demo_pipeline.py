@@ -2,6 +2,7 @@
 combination rule against the plain mean on the score column. In a file of its own (one
 module-scoped run of the pipeline) so that a parallel test run balances it against the rest."""
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -66,9 +67,15 @@ def test_pipeline_outputs(short_demo, tmp_path):
     assert int((pairs["true_pair"] & (pairs["class"] == "match")).sum()) == m.tp
     assert int(pairs["true_pair"].sum()) == m.true_pairs - m.true_not_candidates
     assert (tmp_path / "out" / "map.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    # reports.csv is what `geofeas associate` reads
+    # reports.csv is what `geofeas associate` reads, and it is the picture the demo associated,
+    # to the bit: the same pairs, posteriors and classes (the sampler follows the same paths)
     again = geofeas.associate(geofeas.read_reports(tmp_path / "out" / "reports.csv"))
-    assert len(again.pairs) == len(res.default.pairs)
+    key = ["track_a", "track_b"]
+    mine = res.default.pairs.sort_values(key, ignore_index=True)
+    theirs = again.pairs.sort_values(key, ignore_index=True)
+    assert mine[key].astype(str).equals(theirs[key].astype(str))
+    assert np.array_equal(mine["p_same"].to_numpy(), theirs["p_same"].to_numpy())
+    assert list(mine["class"]) == list(theirs["class"])
 
 
 def test_calibrated_rule_beats_the_plain_mean(short_demo):

@@ -459,7 +459,8 @@ def plot_map(
 
 
 def write_outputs(result: DemoResult, out: str | Path, *, map_png: bool = True) -> list[Path]:
-    """Write ``reports.csv``, ``pairs.csv`` (default association, with the truth), ``metrics.csv``,
+    """Write ``reports.csv`` (the simulated reports, every value exactly as associated),
+    ``pairs.csv`` (default association, with the truth), ``metrics.csv``,
     ``metrics.md`` (the table in Markdown), ``metrics_by_sources.csv`` and ``map.png`` into
     ``out``; returns the paths written."""
     d = Path(out)
@@ -467,7 +468,9 @@ def write_outputs(result: DemoResult, out: str | Path, *, map_png: bool = True) 
     written = []
     p = d / "reports.csv"
     with atomic_path(p) as tmp:
-        result.scenario.reports.to_csv(tmp, index=False, float_format="%.7f")
+        # every float as the shortest text that reads back to the same double: the file is the
+        # picture the demo associated, so `geofeas associate reports.csv` gives its pairs
+        result.scenario.reports.to_csv(tmp, index=False)
     written.append(p)
     pairs = result.default.pairs.copy()
     t = result.tracks
