@@ -2,7 +2,9 @@
 written from the model in docs/association.md (nothing here calls geofeas).
 
 A track is ``(t, rows)`` with rows ``x, y, rx, ry, phi`` sorted by time. At time ``t`` between
-reports ``k`` and ``k + 1`` (gap ``T <= max_gap``, ``tau = t - t_k``, ``w = tau / T``):
+reports ``k`` and ``k + 1`` (gap ``T <= max_gap``, or ``T <= max_still_gap`` with the two centres
+at most ``sqrt(chi2_2(0.99) q T)`` apart, ``chi2_2(0.99) = -2 ln 0.01``; ``tau = t - t_k``,
+``w = tau / T``):
 centre ``(1 - w) c_k + w c_{k+1}``, covariance ``(1 - w) R_k + w R_{k+1} + q tau (T - tau) / T I``.
 Within ``horizon`` of an end, the centre moves at the velocity of the two end reports (if they
 are at most ``max_gap`` apart) and the covariance grows by ``q |dt| I``. The instants of a pair
@@ -16,7 +18,7 @@ import numpy as np
 from reference import covariance
 
 
-def state(t_rep, rows, t, *, max_gap, horizon, q):
+def state(t_rep, rows, t, *, max_gap, horizon, q, max_still_gap=900.0):
     """``(centre, covariance)`` of a track at ``t`` or ``None``."""
     t_rep = np.asarray(t_rep, float)
     covs = covariance(np.asarray(rows, float))
@@ -36,7 +38,9 @@ def state(t_rep, rows, t, *, max_gap, horizon, q):
         return centres[end] + v * dt, covs[end] + q * abs(dt) * np.eye(2)
     k = int(np.searchsorted(t_rep, t)) - 1
     gap = t_rep[k + 1] - t_rep[k]
-    if gap > max_gap:
+    step = np.hypot(*(centres[k + 1] - centres[k]))
+    still = gap <= max_still_gap and step**2 <= -2.0 * np.log(0.01) * q * gap
+    if gap > max_gap and not still:
         return None
     tau = t - t_rep[k]
     w = tau / gap
@@ -45,13 +49,13 @@ def state(t_rep, rows, t, *, max_gap, horizon, q):
     return c, r
 
 
-def pair_distances(ta, ra, tb, rb, *, max_gap=300.0, horizon=0.0, q=0.0):
+def pair_distances(ta, ra, tb, rb, *, max_gap=300.0, horizon=0.0, q=0.0, max_still_gap=900.0):
     """Times and squared Mahalanobis distances ``d^T (R_a + R_b)^-1 d`` of the common
     instants of two planar tracks, sorted by time."""
     ta, tb = np.asarray(ta, float), np.asarray(tb, float)
     ra, rb = np.asarray(ra, float), np.asarray(rb, float)
     out = []
-    kw = dict(max_gap=max_gap, horizon=horizon, q=q)
+    kw = dict(max_gap=max_gap, horizon=horizon, q=q, max_still_gap=max_still_gap)
     for k, t in enumerate(ta):
         if tb[0] - horizon <= t <= tb[-1] + horizon:
             s = state(tb, rb, t, **kw)

@@ -445,6 +445,7 @@ def test_index_returns_exactly_the_brute_force_pairs(rng, same_source):
     for _ in range(10):
         rep = geofeas.read_reports(_random_scene(rng, int(rng.integers(5, 80)), 20_000))
         kw = dict(max_gap=300.0, process_noise=2.0, same_source=same_source, horizon=30.0)
+        kw["max_still_gap"] = 900.0
         kw["window"] = 120.0
         fast = _core.association_candidates(rep, options=kw)
         slow = _core.association_candidates(rep, options=kw, brute_force=True)

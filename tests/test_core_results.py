@@ -99,7 +99,7 @@ def _association() -> Any:
     return geofeas.associate(_reports())
 
 
-ALIGNMENT = {"max_gap": 60.0, "horizon": 30.0, "process_noise": 0.1}
+ALIGNMENT = {"max_gap": 60.0, "horizon": 30.0, "process_noise": 0.1, "max_still_gap": 900.0}
 
 
 def _track_boxes() -> Any:

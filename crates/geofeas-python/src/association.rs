@@ -103,14 +103,15 @@ impl DecisionsArg<'_> {
     }
 }
 
-/// The alignment options of a binding: any mapping with the keys `max_gap`, `horizon` and
-/// `process_noise` (the association options are one).
+/// The alignment options of a binding: any mapping with the keys `max_gap`, `horizon`,
+/// `process_noise` and `max_still_gap` (the association options are one).
 #[derive(FromPyObject)]
 #[pyo3(from_item_all)]
 pub(super) struct AlignmentArgs {
     max_gap: f64,
     horizon: f64,
     process_noise: f64,
+    max_still_gap: f64,
 }
 
 impl AlignmentArgs {
@@ -119,6 +120,7 @@ impl AlignmentArgs {
             max_gap: self.max_gap,
             horizon: self.horizon,
             process_noise: self.process_noise,
+            max_still_gap: self.max_still_gap,
         }
         .validated()
         .map_err(py_err)
@@ -145,6 +147,7 @@ pub(super) struct AssociationArgs {
     max_gap: f64,
     horizon: f64,
     process_noise: f64,
+    max_still_gap: f64,
     same_source: bool,
     correlation_time: f64,
     window: f64,
@@ -187,6 +190,7 @@ impl AssociationArgs {
                 max_gap: self.max_gap,
                 horizon: self.horizon,
                 process_noise: self.process_noise,
+                max_still_gap: self.max_still_gap,
             },
             correlation_time: self.correlation_time,
             index: IndexOptions {

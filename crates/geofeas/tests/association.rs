@@ -42,14 +42,21 @@ fn scene_rows(seed: u64, n_tracks: usize, size: f64, geo: Option<[f64; 2]>) -> (
             source.push(src);
             time.push(tm);
             aou.push(row);
-            let dt = if rng.random_range(0.0..1.0) < 0.15 {
-                rng.random_range(300.0..900.0)
+            let long = rng.random_range(0.0..1.0) < 0.15;
+            let dt = if long {
+                rng.random_range(300.0..1000.0)
             } else {
                 rng.random_range(1.0..120.0)
             };
             tm += dt;
-            p[0] += rng.random_range(-8.0..8.0) * dt;
-            p[1] += rng.random_range(-8.0..8.0) * dt;
+            // half the long gaps still (a moored ship: bridged up to max_still_gap)
+            let speed = if long && rng.random_range(0.0..1.0) < 0.5 {
+                0.0
+            } else {
+                8.0
+            };
+            p[0] += rng.random_range(-1.0..1.0) * speed * dt;
+            p[1] += rng.random_range(-1.0..1.0) * speed * dt;
         }
     }
     let coords = if geo.is_some() {
@@ -65,6 +72,7 @@ fn align_opts(horizon: f64) -> Alignment {
         max_gap: 300.0,
         horizon,
         process_noise: 5.0,
+        max_still_gap: Alignment::DEFAULT_MAX_STILL_GAP,
     }
 }
 

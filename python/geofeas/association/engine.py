@@ -329,6 +329,7 @@ def associate(
     max_gap: float = 300.0,
     horizon: float = 0.0,
     process_noise: float = 2.0,
+    max_still_gap: float = 900.0,
     same_source: bool = False,
     correlation_time: float = 60.0,
     window: float = 300.0,
@@ -376,6 +377,11 @@ def associate(
         How far a track is extrapolated beyond its first / last report (s).
     process_noise : float
         Diffusion ``q`` (m^2/s) of the position around straight-line motion.
+    max_still_gap : float
+        Longest gap (s) interpolated across when the track stays still over it: its two
+        reports at most ``sqrt(chi2_2(0.99) q T)`` apart for a gap of ``T`` seconds (a ship at
+        anchor or moored, whose AIS reports come every 3 minutes or more); gaps longer than
+        ``max_gap`` are otherwise not interpolated.
     same_source : bool
         Whether pairs of tracks from the same source are compared (default: not).
     correlation_time : float
@@ -417,6 +423,7 @@ def associate(
             max_gap=max_gap,
             horizon=horizon,
             process_noise=process_noise,
+            max_still_gap=max_still_gap,
             same_source=same_source,
             correlation_time=correlation_time,
             window=window,

@@ -113,6 +113,7 @@ def _resolve_options(
         max_gap=float(o["max_gap"]),
         horizon=float(o["horizon"]),
         process_noise=float(o["process_noise"]),
+        max_still_gap=float(o["max_still_gap"]),
         same_source=bool(o["same_source"]),
         correlation_time=float(o["correlation_time"]),
         window=float(o["window"]),

@@ -125,6 +125,7 @@ def _combine(
     max_gap: float,
     horizon: float,
     process_noise: float,
+    max_still_gap: float,
     halo: float,
 ) -> pd.DataFrame:
     """The track table, sorted by track id as the engine numbers tracks: the partials merged
@@ -148,7 +149,12 @@ def _combine(
         inverse.astype(np.uint32),
         len(track_ids),
         geographic=geo,
-        alignment={"max_gap": max_gap, "horizon": horizon, "process_noise": process_noise},
+        alignment={
+            "max_gap": max_gap,
+            "horizon": horizon,
+            "process_noise": process_noise,
+            "max_still_gap": max_still_gap,
+        },
         halo=halo,
     )
     out: dict[str, Any] = {
@@ -178,6 +184,7 @@ def track_boxes(
     max_gap: float = 300.0,
     horizon: float = 0.0,
     process_noise: float = 2.0,
+    max_still_gap: float = 900.0,
     halo: float = 0.0,
 ) -> pd.DataFrame:
     """One row per track: its source, span and the space-time box of the distributed tiling.
@@ -185,7 +192,7 @@ def track_boxes(
     Parameters
     ----------
     reports : anything :func:`geofeas.read_reports` accepts
-    coords, max_gap, horizon, process_noise
+    coords, max_gap, horizon, process_noise, max_still_gap
         As for :func:`geofeas.associate`.
     halo : float
         A lower bound on the spatial halo (m).
@@ -207,6 +214,7 @@ def track_boxes(
         max_gap=max_gap,
         horizon=horizon,
         process_noise=process_noise,
+        max_still_gap=max_still_gap,
         halo=halo,
     )
 
@@ -615,6 +623,7 @@ def _run(
         max_gap=float(o["max_gap"]),
         horizon=float(o["horizon"]),
         process_noise=float(o["process_noise"]),
+        max_still_gap=float(o["max_still_gap"]),
         halo=halo,
     )
     track_ids = tracks["track_id"].to_numpy()

@@ -697,6 +697,7 @@ def align_tracks(
     max_gap: float = 300.0,
     horizon: float = 0.0,
     process_noise: float = 2.0,
+    max_still_gap: float = 900.0,
 ) -> list[Any]:
     """Tracks brought to common instants by the engine's own time alignment.
 
@@ -707,8 +708,9 @@ def align_tracks(
     (``geofeas.association.align`` in the core): between two states at most ``max_gap`` apart
     the centre is interpolated linearly and the covariance is the blend of the two plus the
     Brownian-bridge term ``process_noise * tau (T - tau) / T``; inside a longer gap a track has
-    no state (it is not bridged); within ``horizon`` seconds before its first / after its last
-    state it is extrapolated.
+    no state (it is not bridged) unless the track stays still across it (at most
+    ``max_still_gap`` seconds, the two states within the 99 % of the diffusion's spread); within
+    ``horizon`` seconds before its first / after its last state it is extrapolated.
 
     Parameters
     ----------
@@ -722,8 +724,8 @@ def align_tracks(
     mapping : sequence of 2 ints
         Indices of x (east, m) and y (north, m) in the state vectors; ``(0, 2)`` for Stone Soup's
         constant-velocity ``[x, vx, y, vy]``.
-    max_gap, horizon, process_noise
-        The alignment options of :func:`geofeas.associate` (seconds, seconds, m^2/s).
+    max_gap, horizon, process_noise, max_still_gap
+        The alignment options of :func:`geofeas.associate` (seconds, seconds, m^2/s, seconds).
 
     Returns
     -------
@@ -800,7 +802,12 @@ def align_tracks(
     out = association_states_at(
         columns,
         np.ascontiguousarray(grid),
-        alignment={"max_gap": max_gap, "horizon": horizon, "process_noise": process_noise},
+        alignment={
+            "max_gap": max_gap,
+            "horizon": horizon,
+            "process_noise": process_noise,
+            "max_still_gap": max_still_gap,
+        },
     )
     which = np.asarray(out.track, dtype=np.int64)
     index = np.asarray(out.index, dtype=np.int64)

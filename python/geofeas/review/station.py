@@ -363,7 +363,9 @@ class Station:
             rep,
             ia,
             ib,
-            alignment={k: float(o[k]) for k in ("max_gap", "horizon", "process_noise")},
+            alignment={
+                k: float(o[k]) for k in ("max_gap", "horizon", "process_noise", "max_still_gap")
+            },
         )
         t = np.asarray(raw.time)
         sa, sb = np.asarray(raw.state_a), np.asarray(raw.state_b)

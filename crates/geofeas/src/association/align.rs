@@ -17,7 +17,13 @@
 //!   linear motion with equal covariances the interpolated centre is exact. In geographic mode
 //!   both covariances are first carried into the east/north frame of the interpolated point
 //!   along the geodesic (see [`super::geodesy`]).
-//! - a gap `T > max_gap` is not interpolated: times inside it have no state.
+//! - a gap `T > max_gap` is not interpolated: times inside it have no state, unless the track
+//!   is still across it: `T <= max_still_gap` and the two reports at most
+//!   `sqrt(chi2_2(0.99) q T)` apart, within the 99 % of the diffusion's own spread over the gap,
+//!   measurement errors left out ([`connected`]). A ship at anchor or moored reports AIS only
+//!   every 3 minutes and loses messages; its gaps are bridged, a moving ship's are not (the
+//!   chord and `q` do not hold a manoeuvre), nor any whose reports are too coarse to show that
+//!   the ship stayed (an HF DF track's fixes).
 //! - within `horizon` seconds before the first or after the last report the state is
 //!   extrapolated at the velocity of the two end reports (when they are at most `max_gap`
 //!   apart, else held still) with covariance `R_end + q |t - t_end| I`.
@@ -37,6 +43,9 @@ pub struct Alignment {
     pub horizon: f64,
     /// Diffusion `q` of the position around straight-line motion (m^2/s per axis).
     pub process_noise: f64,
+    /// Longest gap between two reports of a still track that is interpolated (s; see
+    /// [`connected`]).
+    pub max_still_gap: f64,
 }
 
 impl Default for Alignment {
@@ -45,6 +54,7 @@ impl Default for Alignment {
             max_gap: Self::DEFAULT_MAX_GAP,
             horizon: 0.0,
             process_noise: Self::DEFAULT_PROCESS_NOISE,
+            max_still_gap: Self::DEFAULT_MAX_STILL_GAP,
         }
     }
 }
@@ -55,6 +65,14 @@ impl Alignment {
     /// Default `q` (m^2/s): a ship of 10 m/s whose heading wanders by about 1 degree per minute
     /// strays some 10 m from the chord over a minute's gap, `q tau (T - tau) / T = 0.5^2 * 15`.
     pub const DEFAULT_PROCESS_NOISE: f64 = 2.0;
+    /// Default `max_still_gap`: 15 minutes, five of the 3-minute intervals at which a ship at
+    /// anchor or moored reports AIS (ITU-R M.1371).
+    pub const DEFAULT_MAX_STILL_GAP: f64 = 900.0;
+
+    /// The longest gap any two reports of a track can be interpolated across (s).
+    pub fn longest_gap(&self) -> f64 {
+        self.max_gap.max(self.max_still_gap)
+    }
 
     /// Checks the options.
     pub fn validated(self) -> crate::Result<Self> {
@@ -62,6 +80,7 @@ impl Alignment {
             ("max_gap", self.max_gap),
             ("horizon", self.horizon),
             ("process_noise", self.process_noise),
+            ("max_still_gap", self.max_still_gap),
         ] {
             if v.is_nan() || v < 0.0 {
                 return Err(crate::Error::InvalidOption {
@@ -84,6 +103,26 @@ fn blend(a: [f64; 3], b: [f64; 3], w: f64) -> [f64; 3] {
         (1.0 - w) * a[1] + w * b[1],
         (1.0 - w) * a[2] + w * b[2],
     ]
+}
+
+/// 99 % quantile of the chi-square distribution with 2 degrees of freedom, `-2 ln 0.01`.
+const STILL_QUANTILE: f64 = 9.210_340_371_976_184;
+
+/// Whether the reports `i` and `i + 1` of `r` (consecutive reports of one track) are
+/// interpolated between (see the module docs): their gap `T` is at most `max_gap`, or at most
+/// `max_still_gap` with the two centres at most `sqrt(chi2_2(0.99) q T)` apart (the chord in
+/// index space, within rounding of the distance for the short distances concerned).
+pub fn connected(r: &Reports, i: usize, o: &Alignment) -> bool {
+    let gap = r.time[i + 1] - r.time[i];
+    if gap <= o.max_gap {
+        return true;
+    }
+    if gap > o.max_still_gap {
+        return false;
+    }
+    let (a, b) = (&r.point[i], &r.point[i + 1]);
+    let d2 = (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2);
+    d2 <= STILL_QUANTILE * o.process_noise * gap
 }
 
 /// The state of track `track` at `time` (see the module docs), `None` in a gap or outside the
@@ -118,7 +157,7 @@ pub fn state_at(r: &Reports, track: usize, time: f64, o: &Alignment) -> Option<S
     }
     let (t0, t1) = (ts[j - 1], ts[j]);
     let gap = t1 - t0;
-    if gap > o.max_gap {
+    if !connected(r, r.range(track).start + j - 1, o) {
         return None;
     }
     let tau = time - t0;
@@ -280,9 +319,10 @@ impl TimeCover {
         offsets.push(0u32);
         for t in 0..r.n_tracks {
             let ts = r.times(t);
+            let start = r.range(t).start;
             let (mut lo, mut first) = (ts[0], 0usize);
             for (i, w) in ts.windows(2).enumerate() {
-                if w[1] - w[0] > o.max_gap {
+                if !connected(r, start + i, o) {
                     spans.push([lo, w[0]]);
                     reports.push((i + 1 - first) as u32);
                     lo = w[1];
@@ -456,19 +496,41 @@ mod tests {
 
     #[test]
     fn gaps_are_not_interpolated() {
-        let aou = line(3, [1.0, 0.0], 1.0);
-        let r = Reports::new(
-            Coords::Planar,
-            1,
-            &[0; 3],
-            &[0; 3],
-            &[0.0, 1.0, 500.0],
-            &aou,
-        )
-        .unwrap();
+        // reports at 0, 1 and 500 s, 1 m apart: the 499 s gap is longer than max_gap but the
+        // track stays still across it (1 m against sqrt(9.21 q 499) = 96 m)
+        let at = |xs: [f64; 3], times: [f64; 3]| {
+            let aou: Vec<[f64; 5]> = xs.iter().map(|&x| [x, 0.0, 20.0, 10.0, 0.7]).collect();
+            Reports::new(Coords::Planar, 1, &[0; 3], &[0; 3], &times, &aou).unwrap()
+        };
         let o = Alignment::default();
-        assert!(state_at(&r, 0, 0.5, &o).is_some());
-        assert!(state_at(&r, 0, 200.0, &o).is_none());
+        let still = at([10.0, 11.0, 12.0], [0.0, 1.0, 500.0]);
+        assert!(state_at(&still, 0, 0.5, &o).is_some());
+        let s = state_at(&still, 0, 200.0, &o).expect("a still gap is bridged");
+        // the chord and the Brownian bridge, q tau (T - tau) / T
+        let (tau, gap) = (199.0, 499.0);
+        assert!((s.pos[0] - (11.0 + tau / gap)).abs() < 1e-12);
+        let bridge = o.process_noise * tau * (gap - tau) / gap;
+        assert!((s.cov[0] - still.state[1].cov[0] - bridge).abs() < 1e-9);
+        assert!(connected(&still, 1, &o));
+        // the same gap without the still rule, and longer than max_still_gap
+        let plain = Alignment {
+            max_still_gap: 0.0,
+            ..o
+        };
+        assert!(state_at(&still, 0, 200.0, &plain).is_none());
+        let long = at([10.0, 11.0, 12.0], [0.0, 1.0, 1000.0]);
+        assert!(state_at(&long, 0, 200.0, &o).is_none());
+        // moving: 100 m over the gap is beyond the 99 % of the diffusion's spread (96 m)
+        let moving = at([10.0, 11.0, 111.0], [0.0, 1.0, 500.0]);
+        assert!(!connected(&moving, 1, &o));
+        assert!(state_at(&moving, 0, 200.0, &o).is_none());
+        // just inside it, bridged
+        let limit = (9.210_340_371_976_184 * o.process_noise * 499.0_f64).sqrt();
+        let slow = at([10.0, 11.0, 11.0 + 0.999 * limit], [0.0, 1.0, 500.0]);
+        assert!(state_at(&slow, 0, 200.0, &o).is_some());
+        // the time cover follows the same rule: one chain when still, two when moving
+        assert_eq!(TimeCover::of(&still, &o).of_track(0).len(), 1);
+        assert_eq!(TimeCover::of(&moving, &o).of_track(0).len(), 2);
     }
 
     /// `TimeCover::meet` against the definition: `common_instants` is not empty.
@@ -495,6 +557,8 @@ mod tests {
                 max_gap: 300.0,
                 horizon: [0.0, 30.0, 120.0][case % 3],
                 process_noise: 1.0,
+                // still tracks (every centre at the origin): gaps up to 600 s are bridged
+                max_still_gap: 600.0,
             };
             let cov = TimeCover::of(&r, &o);
             // every chain's report count is the number of the track's report times in it

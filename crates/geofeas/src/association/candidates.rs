@@ -137,7 +137,7 @@ pub fn chunks(r: &Reports, align: &Alignment, o: &IndexOptions) -> Vec<Chunk> {
         .map(|t| {
             let range = r.range(t);
             let (start, end) = (range.start, range.end);
-            let connected = |i: usize| i + 1 < end && r.time[i + 1] - r.time[i] <= align.max_gap;
+            let connected = |i: usize| i + 1 < end && super::align::connected(r, i, align);
             let neighbour =
                 |e: usize, n: usize| (r.time[e] - r.time[n], dist3(&r.point[e], &r.point[n]));
             let mut out = Vec::new();
@@ -304,7 +304,8 @@ impl TrackPartial {
 
     /// A 4-D box `[x, y, z, t]` holding every chunk box of the track, with the spatial halo at
     /// least `halo`: the points' box grown by the largest semi-axis, the largest interpolation
-    /// term (a segment is at most `min(span, max_gap)` long and its chord at most the box's
+    /// term (a segment is at most `min(span, max(max_gap, max_still_gap))` long and its chord at
+    /// most the box's
     /// diagonal) and the larger extrapolation term of the two ends, each term of a chunk being
     /// no larger (the functions are increasing); the margin is twice a chunk's.
     pub fn halo_box(&self, align: &Alignment, geo: bool, halo: f64) -> ([f64; 4], [f64; 4]) {
@@ -323,7 +324,7 @@ impl TrackPartial {
 
     /// The spatial growth of [`TrackPartial::halo_box`] (m, before the rounding margin).
     pub fn growth(&self, align: &Alignment, geo: bool, halo: f64) -> f64 {
-        let span = (self.t_max - self.t_min).min(align.max_gap).max(0.0);
+        let span = (self.t_max - self.t_min).min(align.longest_gap()).max(0.0);
         let seg = segment_growth(align.process_noise, span, dist3(&self.lo, &self.hi), geo);
         let e = &self.ends;
         let n = e.len();

@@ -97,6 +97,12 @@ pub fn options() -> Vec<OptionSpec> {
             "diffusion q of the position around straight-line motion (m^2/s)",
         ),
         spec(
+            "max_still_gap",
+            Value::Float(d.align.max_still_gap),
+            "longest gap interpolated across when the track stays still over it: its two \
+             reports within the 99th percentile of the diffusion's spread (s)",
+        ),
+        spec(
             "same_source",
             Value::Bool(d.index.same_source),
             "also compare tracks of the same source",
