@@ -15,6 +15,7 @@ others, ``p`` clipped to ``[1e-6, 1 - 1e-6]``), and the largest standard error o
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -46,12 +47,12 @@ def log_score(p: np.ndarray, y: np.ndarray) -> float:
     return float(np.where(y, np.log(pc), np.log(1 - pc)).sum())
 
 
-def mix_row(recording: str, seed: int, mix: str) -> dict[str, object]:
-    """The measures of one mix (see the module docs)."""
+def mix_row(recording: str, seed: int, mix: str, **options: Any) -> dict[str, object]:
+    """The measures of one mix (see the module docs); ``options`` go to ``associate``."""
     sc = simulate(read_ais(bundled(recording)), seed=seed, sensors=tuple(mix.split(",")))
     tracks = track_table(sc.reports)
     n_true = max(len(true_pairs(tracks)), 1)
-    res = geofeas.associate(sc.reports)
+    res = geofeas.associate(sc.reports, **options)
     pairs = res.pairs
     y = labels(pairs, tracks)
     cls = pairs["class"].to_numpy()
@@ -77,10 +78,17 @@ def main() -> None:
     ap.add_argument("--recording", default="solent", help="bundled recording (solent, nyharbor)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--mixes", nargs="+", default=list(MIXES), help="comma-separated sensors")
+    ap.add_argument(
+        "--max-still-gap",
+        type=float,
+        default=None,
+        help="associate's max_still_gap (s; 0: the alignment before still tracks were bridged)",
+    )
     args = ap.parse_args()
+    options = {} if args.max_still_gap is None else {"max_still_gap": args.max_still_gap}
     rows = []
     for mix in args.mixes:
-        rows.append(mix_row(args.recording, args.seed, mix))
+        rows.append(mix_row(args.recording, args.seed, mix, **options))
         print(rows[-1], flush=True)
     table = pd.DataFrame(rows).astype(str)
     print(f"\n{args.recording}, seed {args.seed}\n")

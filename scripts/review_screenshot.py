@@ -61,6 +61,10 @@ def main() -> None:
                 page.locator("#operator").dispatch_event("change")
                 page.locator("#queue tbody tr").nth(0).locator("a").click()
                 page.wait_for_selector("svg#map")
+                # the header's progress comes from the station's first poll of /api/state
+                page.wait_for_function(
+                    "document.getElementById('status').textContent.includes('remaining')"
+                )
                 args.out.parent.mkdir(parents=True, exist_ok=True)
                 part = args.out.with_name(f".{args.out.name}.{os.getpid()}.png")
                 page.screenshot(path=str(part), full_page=True)
