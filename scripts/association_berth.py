@@ -29,7 +29,9 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-from association_mixes import log_score  # scripts/ is on the path of `python scripts/...`
+
+# scripts/ is on the path of `python scripts/...`
+from association_mixes import add_still_gap, log_score, still_gap
 
 import geofeas
 
@@ -82,19 +84,14 @@ def main() -> None:
     ap.add_argument("--ais-period", type=float, default=360.0, help="seconds between AIS reports")
     ap.add_argument("--repeats", type=int, default=20)
     ap.add_argument("--no-radar", action="store_true", help="AIS and the aircraft only")
-    ap.add_argument(
-        "--max-still-gap",
-        type=float,
-        default=900.0,
-        help="the association's max_still_gap (s; 0: no gap longer than max_gap is bridged)",
-    )
+    add_still_gap(ap)
     args = ap.parse_args()
     tally: dict[str, dict[str, float]] = defaultdict(lambda: defaultdict(float))
     for rep in range(args.repeats):
         rng = np.random.default_rng(rep)
         pairs = geofeas.associate(
             berth(rng, args.ships, args.spacing, args.ais_period, radar=not args.no_radar),
-            max_still_gap=args.max_still_gap,
+            **still_gap(args),
         ).pairs
         names = [
             (a.split("-"), b.split("-")) for a, b in zip(pairs.track_a, pairs.track_b, strict=True)

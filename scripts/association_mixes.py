@@ -47,6 +47,22 @@ def log_score(p: np.ndarray, y: np.ndarray) -> float:
     return float(np.where(y, np.log(pc), np.log(1 - pc)).sum())
 
 
+def add_still_gap(ap: argparse.ArgumentParser) -> None:
+    """The ``--max-still-gap`` flag of the scripts that measure the association."""
+    ap.add_argument(
+        "--max-still-gap",
+        type=float,
+        default=None,
+        help="associate's max_still_gap (s; default the engine's; 0: the alignment before "
+        "still tracks were bridged)",
+    )
+
+
+def still_gap(args: argparse.Namespace) -> dict[str, Any]:
+    """The ``associate`` options of :func:`add_still_gap`'s flag (none: the engine's default)."""
+    return {} if args.max_still_gap is None else {"max_still_gap": args.max_still_gap}
+
+
 def mix_row(recording: str, seed: int, mix: str, **options: Any) -> dict[str, object]:
     """The measures of one mix (see the module docs); ``options`` go to ``associate``."""
     sc = simulate(read_ais(bundled(recording)), seed=seed, sensors=tuple(mix.split(",")))
@@ -78,14 +94,9 @@ def main() -> None:
     ap.add_argument("--recording", default="solent", help="bundled recording (solent, nyharbor)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--mixes", nargs="+", default=list(MIXES), help="comma-separated sensors")
-    ap.add_argument(
-        "--max-still-gap",
-        type=float,
-        default=None,
-        help="associate's max_still_gap (s; 0: the alignment before still tracks were bridged)",
-    )
+    add_still_gap(ap)
     args = ap.parse_args()
-    options = {} if args.max_still_gap is None else {"max_still_gap": args.max_still_gap}
+    options = still_gap(args)
     rows = []
     for mix in args.mixes:
         rows.append(mix_row(args.recording, args.seed, mix, **options))

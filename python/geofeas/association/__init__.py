@@ -22,11 +22,13 @@ from .engine import (  # noqa: F401
     write_tables,
 )
 from .options import (  # noqa: F401
+    ALIGNMENT_OPTIONS,
     ASSOCIATION_DEFAULTS,
     COMBINE_RULES,
     DEFAULT_UPPER,
     OPTIONS,
     SCORES,
+    _alignment,
     _options_markdown,
     _resolve_options,
 )

@@ -15,7 +15,14 @@ from .. import _core
 from .._core import GeofeasError
 from ..scores import _OPTIONS, SCORE_DEFAULTS, SCORE_OPTIONS
 
-__all__ = ["ASSOCIATION_DEFAULTS", "COMBINE_RULES", "DEFAULT_UPPER", "OPTIONS", "SCORES"]
+__all__ = [
+    "ALIGNMENT_OPTIONS",
+    "ASSOCIATION_DEFAULTS",
+    "COMBINE_RULES",
+    "DEFAULT_UPPER",
+    "OPTIONS",
+    "SCORES",
+]
 
 #: The options of :func:`associate`, defined once in the core (``association::schema``): dicts
 #: of ``name``, ``default``, ``choices`` and ``help``, in signature order.
@@ -61,6 +68,15 @@ def _score_options(score: str, options: dict[str, Any]) -> tuple[str, dict[str, 
 
 #: The defaults of :func:`associate`'s options (besides the score's own), from :data:`OPTIONS`.
 ASSOCIATION_DEFAULTS: dict[str, Any] = {o["name"]: o["default"] for o in OPTIONS}
+
+#: The options of the time alignment (``association::align::Alignment`` in the core).
+ALIGNMENT_OPTIONS = ("max_gap", "horizon", "process_noise", "max_still_gap")
+
+
+def _alignment(options: Mapping[str, Any]) -> dict[str, float]:
+    """The alignment options the core's bindings take (``alignment=``), from a mapping that holds
+    them (an association's options, or keyword arguments)."""
+    return {k: float(options[k]) for k in ALIGNMENT_OPTIONS}
 
 
 def _options_markdown() -> str:

@@ -59,6 +59,7 @@ from ..association import (
     PLANAR,
     Association,
     Reports,
+    _alignment,
     _read_reports,
     _relabelled,
     _ReportColumns,
@@ -122,14 +123,12 @@ def _combine(
     parts: list[tuple[NDArray[Any], NDArray[Any], NDArray[np.float64]]],
     coords: str,
     *,
-    max_gap: float,
-    horizon: float,
-    process_noise: float,
-    max_still_gap: float,
+    alignment: dict[str, float],
     halo: float,
 ) -> pd.DataFrame:
     """The track table, sorted by track id as the engine numbers tracks: the partials merged
-    and the halo boxes computed by the engine (``association_track_boxes``)."""
+    and the halo boxes computed by the engine (``association_track_boxes``) under the
+    ``alignment`` options."""
     ids = np.concatenate([p[0] for p in parts]) if parts else np.zeros(0, object)
     try:
         track_ids, inverse = np.unique(ids, return_inverse=True)
@@ -149,12 +148,7 @@ def _combine(
         inverse.astype(np.uint32),
         len(track_ids),
         geographic=geo,
-        alignment={
-            "max_gap": max_gap,
-            "horizon": horizon,
-            "process_noise": process_noise,
-            "max_still_gap": max_still_gap,
-        },
+        alignment=alignment,
         halo=halo,
     )
     out: dict[str, Any] = {
@@ -211,10 +205,14 @@ def track_boxes(
     return _combine(
         [_partials(rep)],
         rep.coords,
-        max_gap=max_gap,
-        horizon=horizon,
-        process_noise=process_noise,
-        max_still_gap=max_still_gap,
+        alignment=_alignment(
+            dict(
+                max_gap=max_gap,
+                horizon=horizon,
+                process_noise=process_noise,
+                max_still_gap=max_still_gap,
+            )
+        ),
         halo=halo,
     )
 
@@ -620,10 +618,7 @@ def _run(
     tracks = _combine(
         list(parts),
         coords,
-        max_gap=float(o["max_gap"]),
-        horizon=float(o["horizon"]),
-        process_noise=float(o["process_noise"]),
-        max_still_gap=float(o["max_still_gap"]),
+        alignment=_alignment(o),
         halo=halo,
     )
     track_ids = tracks["track_id"].to_numpy()

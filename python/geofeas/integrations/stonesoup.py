@@ -709,7 +709,8 @@ def align_tracks(
     the centre is interpolated linearly and the covariance is the blend of the two plus the
     Brownian-bridge term ``process_noise * tau (T - tau) / T``; inside a longer gap a track has
     no state (it is not bridged) unless the track stays still across it (at most
-    ``max_still_gap`` seconds, the two states within the 99 % of the diffusion's spread); within
+    ``max_still_gap`` seconds, the two states within the 99th percentile of the diffusion's
+    spread); within
     ``horizon`` seconds before its first / after its last state it is extrapolated.
 
     Parameters
@@ -789,7 +790,7 @@ def align_tracks(
             raise GeofeasError(f"argument 'times': element {bad[0]} is not finite")
         grid = np.unique(grid)
     from .._core import association_states_at
-    from ..association import _ReportColumns
+    from ..association import _alignment, _ReportColumns
 
     columns = _ReportColumns(
         track=dense,
@@ -802,12 +803,14 @@ def align_tracks(
     out = association_states_at(
         columns,
         np.ascontiguousarray(grid),
-        alignment={
-            "max_gap": max_gap,
-            "horizon": horizon,
-            "process_noise": process_noise,
-            "max_still_gap": max_still_gap,
-        },
+        alignment=_alignment(
+            dict(
+                max_gap=max_gap,
+                horizon=horizon,
+                process_noise=process_noise,
+                max_still_gap=max_still_gap,
+            )
+        ),
     )
     which = np.asarray(out.track, dtype=np.int64)
     index = np.asarray(out.index, dtype=np.int64)

@@ -22,7 +22,7 @@ import pandas as pd
 
 from .. import _core
 from .._core import GeofeasError
-from ..association import Association, Reports, associate, read_reports
+from ..association import Association, Reports, _alignment, associate, read_reports
 from ..geodesy import delta_lon, median_lon, metres_per_degree
 from .coast import Coastline, coastline
 from .log import DecisionLog, spans_of
@@ -363,9 +363,7 @@ class Station:
             rep,
             ia,
             ib,
-            alignment={
-                k: float(o[k]) for k in ("max_gap", "horizon", "process_noise", "max_still_gap")
-            },
+            alignment=_alignment(o),
         )
         t = np.asarray(raw.time)
         sa, sb = np.asarray(raw.state_a), np.asarray(raw.state_b)

@@ -19,11 +19,11 @@
 //!   along the geodesic (see [`super::geodesy`]).
 //! - a gap `T > max_gap` is not interpolated: times inside it have no state, unless the track
 //!   is still across it: `T <= max_still_gap` and the two reports at most
-//!   `sqrt(chi2_2(0.99) q T)` apart, within the 99 % of the diffusion's own spread over the gap,
-//!   measurement errors left out ([`connected`]). A ship at anchor or moored reports AIS only
-//!   every 3 minutes and loses messages; its gaps are bridged, a moving ship's are not (the
-//!   chord and `q` do not hold a manoeuvre), nor any whose reports are too coarse to show that
-//!   the ship stayed (an HF DF track's fixes).
+//!   `sqrt(chi2_2(0.99) q T)` apart, within the 99th percentile of the diffusion's own spread
+//!   over the gap, measurement errors left out ([`connected`]). A ship at anchor or moored
+//!   reports AIS only every 3 minutes and loses messages; its gaps are bridged, a moving ship's
+//!   are not (the chord and `q` do not hold a manoeuvre), nor any whose reports are too coarse
+//!   to show that the ship stayed (an HF DF track's fixes).
 //! - within `horizon` seconds before the first or after the last report the state is
 //!   extrapolated at the velocity of the two end reports (when they are at most `max_gap`
 //!   apart, else held still) with covariance `R_end + q |t - t_end| I`.
@@ -129,6 +129,7 @@ pub fn connected(r: &Reports, i: usize, o: &Alignment) -> bool {
 /// span plus horizon.
 pub fn state_at(r: &Reports, track: usize, time: f64, o: &Alignment) -> Option<State> {
     let range = r.range(track);
+    let start = range.start;
     let ts = &r.time[range.clone()];
     let st = &r.state[range];
     let n = ts.len();
@@ -157,7 +158,7 @@ pub fn state_at(r: &Reports, track: usize, time: f64, o: &Alignment) -> Option<S
     }
     let (t0, t1) = (ts[j - 1], ts[j]);
     let gap = t1 - t0;
-    if !connected(r, r.range(track).start + j - 1, o) {
+    if !connected(r, start + j - 1, o) {
         return None;
     }
     let tau = time - t0;
@@ -520,12 +521,12 @@ mod tests {
         assert!(state_at(&still, 0, 200.0, &plain).is_none());
         let long = at([10.0, 11.0, 12.0], [0.0, 1.0, 1000.0]);
         assert!(state_at(&long, 0, 200.0, &o).is_none());
-        // moving: 100 m over the gap is beyond the 99 % of the diffusion's spread (96 m)
+        // moving: 100 m over the gap is beyond the diffusion's 99th percentile (96 m)
         let moving = at([10.0, 11.0, 111.0], [0.0, 1.0, 500.0]);
         assert!(!connected(&moving, 1, &o));
         assert!(state_at(&moving, 0, 200.0, &o).is_none());
         // just inside it, bridged
-        let limit = (9.210_340_371_976_184 * o.process_noise * 499.0_f64).sqrt();
+        let limit = (STILL_QUANTILE * o.process_noise * 499.0).sqrt();
         let slow = at([10.0, 11.0, 11.0 + 0.999 * limit], [0.0, 1.0, 500.0]);
         assert!(state_at(&slow, 0, 200.0, &o).is_some());
         // the time cover follows the same rule: one chain when still, two when moving

@@ -305,9 +305,8 @@ impl TrackPartial {
     /// A 4-D box `[x, y, z, t]` holding every chunk box of the track, with the spatial halo at
     /// least `halo`: the points' box grown by the largest semi-axis, the largest interpolation
     /// term (a segment is at most `min(span, max(max_gap, max_still_gap))` long and its chord at
-    /// most the box's
-    /// diagonal) and the larger extrapolation term of the two ends, each term of a chunk being
-    /// no larger (the functions are increasing); the margin is twice a chunk's.
+    /// most the box's diagonal) and the larger extrapolation term of the two ends, each term of
+    /// a chunk being no larger (the functions are increasing); the margin is twice a chunk's.
     pub fn halo_box(&self, align: &Alignment, geo: bool, halo: f64) -> ([f64; 4], [f64; 4]) {
         self.box_grown_by(align, geo, self.growth(align, geo, halo))
     }
