@@ -761,6 +761,62 @@ def test_ships_geometry_cannot_separate_are_left_to_the_operator(rng):
     np.testing.assert_array_equal(again.pairs.p_same, decided.pairs.p_same)
 
 
+def test_decisions_recompute_only_the_components_they_change(rng):
+    # three pictures in one: two ships 30 m apart under a vague radar track, a third ship with
+    # its radar track, and two more ships 40 m apart under a vague aircraft track
+    frame = pd.concat(
+        [
+            straight_track(rng, "ais-1", "ais", (0, 0), (5, 0), 10, 5),
+            straight_track(rng, "ais-2", "ais", (0, 30), (5, 0), 10, 5),
+            straight_track(rng, "radar", "radar", (0, 0), (5, 0), 4, 150),
+            straight_track(rng, "ais-3", "ais", (0, 5000), (5, 0), 10, 5),
+            straight_track(rng, "radar-3", "radar", (0, 5000), (5, 0), 4, 20),
+            straight_track(rng, "ais-4", "ais", (0, 20000), (5, 0), 10, 5),
+            straight_track(rng, "ais-5", "ais", (0, 20040), (5, 0), 10, 5),
+            straight_track(rng, "air", "aircraft", (0, 20000), (5, 0), 6, 200),
+        ]
+    )
+
+    def decisions(*rows):
+        return pd.DataFrame(rows, columns=["track_a", "track_b", "decision"])
+
+    def component_of(res, a, b):
+        pairs = res.pairs.set_index(["track_a", "track_b"])
+        return int(pairs.loc[(a, b), "component"])
+
+    def assert_same_result(got, want):
+        pd.testing.assert_frame_equal(got.pairs, want.pairs, check_exact=True)
+        pd.testing.assert_frame_equal(got.objects, want.objects, check_exact=True)
+        cols = ["tracks", "method", "partitions", "max_std_error"]
+        pd.testing.assert_frame_equal(got.components[cols], want.components[cols])
+
+    base = geofeas.associate(frame)
+    assert not base.components.reused.any()
+    first = decisions(("radar", "ais-1", "same"))
+    both = decisions(("radar", "ais-1", "same"), ("air", "ais-4", "different"))
+    prior = base.pairs.set_index(["track_a", "track_b"]).p_same
+    one = base.with_decisions(first)
+    two = one.with_decisions(both)
+    # computed again: the component of the new decision; the radar's component keeps its
+    # decision and is taken from `one`, the third ship's from `base` through `one`
+    changed = component_of(two, "air", "ais-4")
+    assert list(two.components.reused) == [c != changed for c in range(len(two.components))]
+    assert_same_result(two, geofeas.associate(frame, decisions=both))
+    pairs = two.pairs.set_index(["track_a", "track_b"])
+    # the rival drops to its conditional value (the component is enumerated exactly)
+    assert pairs.loc[("air", "ais-4"), "p_same"] == 0.0
+    want = prior[("air", "ais-5")] / (1.0 - prior[("air", "ais-4")])
+    assert pairs.loc[("air", "ais-5"), "p_same"] == pytest.approx(want, rel=1e-9)
+    # a decision taken back: its component is computed again, as without it
+    back = two.with_decisions(decisions(("air", "ais-4", "different")))
+    undone = component_of(back, "ais-1", "radar")
+    assert list(back.components.reused) == [c != undone for c in range(len(back.components))]
+    assert_same_result(back, geofeas.associate(frame, decisions=decisions(both.iloc[1])))
+    assert back.pairs.set_index(["track_a", "track_b"]).loc[("ais-1", "radar"), "class"] == (
+        "borderline"
+    )
+
+
 def test_decisions_files_are_read_and_contradictions_refused(tmp_path, rng):
     frame = pd.concat(
         [

@@ -270,6 +270,26 @@ pub struct AssociationOutput {
     stats: Py<super::fusion::PairStats>,
     /// The picture counts, as `association_track_summary` returns them.
     counts: Py<super::fusion::PictureCounts>,
+    /// Per component: taken from the memo given to `association_finish`, not computed again.
+    component_reused: Py<PyArray1<bool>>,
+    /// Every component's posterior, for `association_finish` to reuse.
+    memo: Py<PosteriorMemo>,
+}
+
+/// Every component's posterior of an association (opaque), which `association_finish` takes
+/// back (`memo=`) to recompute only the components that operator decisions changed.
+#[pyclass(frozen, module = "geofeas._core")]
+pub struct PosteriorMemo(pub(super) association::posterior::Memo);
+
+#[pymethods]
+impl PosteriorMemo {
+    fn __len__(&self) -> usize {
+        self.0.len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("PosteriorMemo({} components)", self.0.len())
+    }
 }
 
 #[pymethods]
@@ -329,6 +349,8 @@ pub(super) fn result_output(
         time_cover: Py::new(py, super::fusion::time_cover(py, res.time_cover))?,
         stats: Py::new(py, super::fusion::pair_stats(py, &res.stats))?,
         counts: Py::new(py, super::fusion::picture_counts(py, &res.counts))?,
+        component_reused: arr(py, comps.iter().map(|c| c.reused).collect()),
+        memo: Py::new(py, PosteriorMemo(res.memo))?,
     })
 }
 
@@ -765,6 +787,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(association_options, m)?)?;
     m.add_function(wrap_pyfunction!(associate, m)?)?;
     m.add_class::<AssociationOutput>()?;
+    m.add_class::<PosteriorMemo>()?;
     m.add_class::<PairInstants>()?;
     m.add_class::<StatesAt>()?;
     m.add_function(wrap_pyfunction!(association_candidates, m)?)?;

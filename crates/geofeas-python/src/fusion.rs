@@ -236,9 +236,13 @@ struct TracksArg<'py> {
 /// `candidates`, the number of candidate pairs before those without instants were dropped),
 /// the `tracks` (see `TracksArg`), the picture `counts` of parts that together hold every
 /// track once (a list of the counts `association_track_summary` returns; merged here) and
-/// operator `decisions`. Returns an `AssociationOutput`, as `associate` does.
+/// operator `decisions`. Returns an `AssociationOutput`, as `associate` does. With `memo` (an
+/// earlier `AssociationOutput`'s, from the same tracks, pairs, counts and options), the
+/// components it holds unchanged are taken from it: only those the decisions change are
+/// computed, with the same result.
 #[pyfunction]
-#[pyo3(signature = (tracks, pairs, counts, decisions, *, geographic, options))]
+#[pyo3(signature = (tracks, pairs, counts, decisions, *, geographic, options, memo=None))]
+#[allow(clippy::too_many_arguments)]
 fn association_finish<'py>(
     py: Python<'py>,
     tracks: TracksArg<'py>,
@@ -247,6 +251,7 @@ fn association_finish<'py>(
     decisions: DecisionsArg<'py>,
     geographic: bool,
     options: AssociationArgs,
+    memo: Option<PyRef<'py, super::association::PosteriorMemo>>,
 ) -> PyResult<AssociationOutput> {
     let o = options.options()?;
     let dec = decisions.decisions()?;
@@ -354,6 +359,7 @@ fn association_finish<'py>(
         merged.merge(&counts_of(k, part, geographic, o.model.cell)?);
     }
     let counts = merged;
+    let memo = memo.as_deref().map(|m| &m.0);
     let res = detached(py, || {
         let picture = Picture::from_counts(counts.clone(), &o.model);
         let mut res = association::finish(
@@ -363,6 +369,7 @@ fn association_finish<'py>(
             &o,
             &kept,
             &dec,
+            memo,
             &mut check_signals,
         )?;
         res.candidates = candidates;

@@ -61,7 +61,9 @@ class Association:
         track.
     components : pandas.DataFrame
         Per connected component of the candidate graph: ``tracks``, ``method`` (``"exact"``
-        or ``"sampled"``), ``partitions`` (enumerated; 0 when sampled) and ``max_std_error``.
+        or ``"sampled"``), ``partitions`` (enumerated; 0 when sampled), ``max_std_error`` and
+        ``reused`` (taken unchanged from the association :meth:`with_decisions` was called on,
+        not computed again).
     coverage : dict
         ``{source: P_s}``: the share of the picture's objects each source is estimated to hold.
     track_breaks : dict
@@ -152,6 +154,7 @@ class Association:
                 "method": methods[np.asarray(raw.component_method, dtype=np.intp)],
                 "partitions": np.asarray(raw.component_partitions, dtype=np.int64),
                 "max_std_error": np.asarray(raw.component_std_error, dtype=np.float64),
+                "reused": np.asarray(raw.component_reused, dtype=bool),
             }
         )
 
@@ -177,7 +180,11 @@ class Association:
         """The association recomputed under operator ``decisions`` (a path, a DataFrame or a
         ``Decisions``; see :func:`geofeas.read_decisions`) without scoring the pairs again:
         the posterior, classes, review order and objects of every component follow the
-        decisions, as :func:`associate` with ``decisions=`` would give them."""
+        decisions, as :func:`associate` with ``decisions=`` would give them. The decisions
+        replace this association's own (they are the whole set); only the components they
+        change are computed, the others are taken from this association as they are (the
+        ``reused`` column of :attr:`components`), so a review station calls it on its latest
+        result and pays for the component of the new decision alone."""
         from .decisions import Decisions, read_decisions
 
         dec = (
@@ -203,6 +210,7 @@ class Association:
                 dec,
                 geographic=self.reports.coords == "geographic",
                 options=core,
+                memo=raw.memo,
             )
         result = Association(self.reports, out, dict(self.options))
         result.decisions = dec

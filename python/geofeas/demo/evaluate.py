@@ -345,7 +345,8 @@ def simulate_operator(
     The operator takes up to ``batch`` pairs from the head of the current review queue, answers
     each from the ground truth (``same`` for a true duplicate-track pair, ``different``
     otherwise), and the association is recomputed under all the decisions so far
-    (``Association.with_decisions``) before the next batch, as a review station does.
+    (``Association.with_decisions`` of the latest result, which computes again only the
+    components the new decisions change) before the next batch, as a review station does.
 
     Returns one row per checkpoint: ``decisions`` (made so far), ``precision``, ``recall`` and
     ``f1`` of the ``match`` pairs, ``borderline`` (pairs still to review), ``false_merges``
@@ -412,7 +413,7 @@ def simulate_operator(
                         operator="simulated",
                     )
                 )
-            current = association.with_decisions(pd.DataFrame(decided))
+            current = current.with_decisions(pd.DataFrame(decided))
         if len(decided) < mark and rows and rows[-1]["decisions"] == len(decided):
             continue  # the queue ran dry: nothing new to record
         record()

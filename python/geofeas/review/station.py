@@ -199,11 +199,15 @@ class Station:
         self._version += 1
         try:
             # the pairs are scored once; after that only the posterior is recomputed under the
-            # decisions (Association.with_decisions), which is what makes re-association cheap
+            # decisions (Association.with_decisions), and only for the components the log's
+            # decisions change against the latest result: the other components are taken
+            # from it as they are, which is what makes re-association cheap
             base = getattr(self, "_base", None)
             if base is None:
                 base = self._base = associate(self.reports, **self.options)
-            result = base if decisions is None else base.with_decisions(decisions)
+            last = getattr(self, "snapshot", None)
+            latest = base if last is None else last.result
+            result = base if decisions is None else latest.with_decisions(decisions)
         except GeofeasError as exc:
             if self._version > 1 and hasattr(self, "snapshot"):
                 old = self.snapshot

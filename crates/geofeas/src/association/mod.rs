@@ -185,6 +185,8 @@ pub struct Association {
     pub time_cover: align::TimeCover,
     pub stats: Vec<PairStat>,
     pub counts: evidence::Counts,
+    /// Every component's posterior, for recomputing under decisions ([`finish`]'s `memo`).
+    pub memo: posterior::Memo,
 }
 
 fn mix(a: u32, b: u32, k: usize) -> u64 {
@@ -496,6 +498,7 @@ pub fn associate(
         &o,
         &kept,
         decisions,
+        None,
         interrupt,
     )?;
     res.candidates = pairs.len();
@@ -570,7 +573,9 @@ fn one_question_per_object(order: Vec<usize>, pairs: &[(u32, u32)], object: &[u3
 /// inflation, scores, pair evidence, the posterior per component, triage, review order and
 /// objects. `tracks` describes every track ([`track_summaries`]), `picture` the picture's
 /// density and coverage, `kept` the scored pairs with at least one common instant, sorted by
-/// `(a, b)`; `o` must be validated.
+/// `(a, b)`; `o` must be validated. The components found unchanged in `memo` (an earlier
+/// result's [`Association::memo`], as when an operator's decisions are added) are taken from it.
+#[allow(clippy::too_many_arguments)]
 pub fn finish(
     tracks: &[posterior::Track],
     cover: &align::TimeCover,
@@ -578,6 +583,7 @@ pub fn finish(
     o: &Options,
     kept: &[((u32, u32), PairStat)],
     decisions: &[Decision],
+    memo: Option<&posterior::Memo>,
     interrupt: Interrupt<'_>,
 ) -> Result<Association> {
     let mut res = Association::default();
@@ -677,7 +683,7 @@ pub fn finish(
             ..*t
         })
         .collect();
-    let post = posterior::posterior(
+    let post = posterior::posterior_reusing(
         &weighed,
         cover,
         &pairs,
@@ -685,6 +691,7 @@ pub fn finish(
         decisions,
         &o.inference,
         (o.p_reject, o.p_match),
+        memo,
     )?;
     if interrupt() {
         return Err(Error::Interrupted);
@@ -727,6 +734,7 @@ pub fn finish(
     res.component = post.component;
     res.p_alone = post.p_alone;
     res.components = post.components;
+    res.memo = post.memo;
     res.object = object;
     res.tracks = tracks.to_vec();
     res.time_cover = cover.clone();

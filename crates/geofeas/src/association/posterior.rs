@@ -196,6 +196,8 @@ pub struct Posterior {
     /// For every pair: how many other pairs a "same" answer would take out of the band
     /// `(p_reject, p_match)`, and how many a "different" answer would.
     pub settles: Vec<(u32, u32)>,
+    /// Every component's result, for a later call to reuse ([`Memo`]).
+    pub memo: Memo,
 }
 
 /// Summary of one component.
@@ -205,6 +207,69 @@ pub struct ComponentInfo {
     pub partitions: u64,
     pub method: Method,
     pub max_std_error: f64,
+    /// Taken from the [`Memo`] given to [`posterior`], not computed again.
+    pub reused: bool,
+}
+
+/// One component's result with everything it was computed from: the component (its tracks,
+/// pairs with their evidence, decisions and constraints, in local indices, and its global
+/// tracks and pairs), the inference settings and the review band. The sampler's streams derive
+/// from the seed and the component's smallest global track only, so the same inputs give the
+/// same result bit for bit, whatever the rest of the picture.
+struct Solved {
+    comp: Component,
+    inf: Inference,
+    band: (f64, f64),
+    p_pair: Vec<f64>,
+    se_pair: Vec<f64>,
+    p_alone: Vec<f64>,
+    gain: Vec<f64>,
+    settles: Vec<(u32, u32)>,
+    partitions: u64,
+    method: Method,
+}
+
+/// The per-component results of one call to [`posterior`], keyed by each component's smallest
+/// global track. A later call given it ([`posterior`]'s `memo`) takes a component's result
+/// from it when the component is the same in every input (compared exactly, not by a hash),
+/// and computes the others: operator decisions recompute the components they touch and
+/// nothing else, with the same result as computing everything again.
+///
+/// A cache: it takes no part in comparing results (`==` always holds).
+#[derive(Clone, Default)]
+pub struct Memo(std::collections::HashMap<u32, std::sync::Arc<Solved>>);
+
+impl Memo {
+    /// Components held.
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    fn get(
+        &self,
+        comp: &Component,
+        inf: &Inference,
+        band: (f64, f64),
+    ) -> Option<&std::sync::Arc<Solved>> {
+        let s = self.0.get(comp.tracks.first()?)?;
+        (s.inf == *inf && s.band == band && s.comp == *comp).then_some(s)
+    }
+}
+
+impl std::fmt::Debug for Memo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Memo({} components)", self.0.len())
+    }
+}
+
+impl PartialEq for Memo {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 /// Union-find.
@@ -344,6 +409,7 @@ fn union_measure(pieces: &mut [Piece]) -> f64 {
 }
 
 /// One component, in local indices.
+#[derive(PartialEq)]
 struct Component {
     /// Global track of each local track.
     tracks: Vec<u32>,
@@ -367,7 +433,16 @@ struct Component {
     pairs: Vec<(usize, u32, u32)>,
     /// Precision order of the local tracks.
     rank: Vec<u32>,
+    /// Whether two local tracks may not share an object, row `x` bit `y` (rows of
+    /// [`Component::words`] words), built from the rules of [`Component::compatible`] when the
+    /// component has at most [`CLASH_MATRIX_TRACKS`] tracks: the sampler asks it at every move.
+    clash: Vec<u64>,
+    words: usize,
 }
+
+/// The most tracks of a component whose pairwise feasibility is held as a bit matrix
+/// ([`Component::clash`], at most 8 MiB); a larger one applies the rules at each question.
+const CLASH_MATRIX_TRACKS: usize = 8192;
 
 impl Component {
     fn edge(&self, x: u32, y: u32) -> Option<f64> {
@@ -395,12 +470,42 @@ impl Component {
     /// a candidate pair (or declared the same): tracks whose AOUs never came close while both
     /// existed are two objects.
     fn compatible(&self, xs: &[u32], ys: &[u32]) -> bool {
-        xs.iter().all(|&x| {
-            ys.iter().all(|&y| {
-                let (tx, ty) = (&self.info[x as usize], &self.info[y as usize]);
-                !tx.conflicts(ty) && !self.different(x, y) && !self.apart(x, y)
-            })
-        })
+        if self.words > 0 {
+            return xs.iter().all(|&x| {
+                let row = &self.clash[x as usize * self.words..][..self.words];
+                ys.iter()
+                    .all(|&y| row[y as usize >> 6] >> (y & 63) & 1 == 0)
+            });
+        }
+        xs.iter()
+            .all(|&x| ys.iter().all(|&y| self.pair_compatible(x, y)))
+    }
+
+    /// [`Component::compatible`] of two tracks, from the rules.
+    fn pair_compatible(&self, x: u32, y: u32) -> bool {
+        let (tx, ty) = (&self.info[x as usize], &self.info[y as usize]);
+        !tx.conflicts(ty) && !self.different(x, y) && !self.apart(x, y)
+    }
+
+    /// Builds [`Component::clash`] (once `different` and `apart` are final), when the
+    /// component is small enough.
+    fn build_clash(&mut self) {
+        let m = self.tracks.len();
+        if m > CLASH_MATRIX_TRACKS {
+            return;
+        }
+        let words = m.div_ceil(64);
+        let mut clash = vec![0u64; m * words];
+        for x in 0..m as u32 {
+            for y in x + 1..m as u32 {
+                if !self.pair_compatible(x, y) {
+                    clash[x as usize * words + (y as usize >> 6)] |= 1 << (y & 63);
+                    clash[y as usize * words + (x as usize >> 6)] |= 1 << (x & 63);
+                }
+            }
+        }
+        self.clash = clash;
+        self.words = words;
     }
 
     /// `(L, k_y)` through which `x` joins the tree of `attached` members: over the members at
@@ -672,6 +777,8 @@ fn components(
                 apart: Vec::new(),
                 pairs: Vec::new(),
                 rank: Vec::new(),
+                clash: Vec::new(),
+                words: 0,
             });
             comps.len() - 1
         });
@@ -805,6 +912,7 @@ fn components(
             comp.block_of[x as usize] = b;
         }
     }
+    comps.par_iter_mut().for_each(Component::build_clash);
     Ok(comps)
 }
 
@@ -1830,6 +1938,22 @@ pub fn posterior(
     inf: &Inference,
     band: (f64, f64),
 ) -> Result<Posterior> {
+    posterior_reusing(tracks, cover, pairs, evidence, decisions, inf, band, None)
+}
+
+/// [`posterior`], taking every component found unchanged in `memo` (an earlier call's
+/// [`Posterior::memo`]) from it instead of computing it again; the result is the same.
+#[allow(clippy::too_many_arguments)]
+pub fn posterior_reusing(
+    tracks: &[Track],
+    cover: &TimeCover,
+    pairs: &[(u32, u32)],
+    evidence: &[PairEvidence],
+    decisions: &[Decision],
+    inf: &Inference,
+    band: (f64, f64),
+    memo: Option<&Memo>,
+) -> Result<Posterior> {
     if evidence.len() != pairs.len() {
         return Err(Error::LengthMismatch {
             left: pairs.len(),
@@ -1849,13 +1973,27 @@ pub fn posterior(
         });
     }
     let comps = components(tracks, cover, pairs, evidence, decisions)?;
-    type Review = (Vec<f64>, Vec<(u32, u32)>);
-    let results: Vec<(Marginals, Review)> = comps
-        .par_iter()
+    let solved: Vec<(std::sync::Arc<Solved>, bool)> = comps
+        .into_par_iter()
         .map(|comp| {
-            let m = infer(comp, &inf);
-            let review = review_gain(comp, &m, band.0, band.1);
-            (m, review)
+            if let Some(s) = memo.and_then(|m| m.get(&comp, &inf, band)) {
+                return (s.clone(), true);
+            }
+            let m = infer(&comp, &inf);
+            let (gain, settles) = review_gain(&comp, &m, band.0, band.1);
+            let s = Solved {
+                comp,
+                inf,
+                band,
+                p_pair: m.p_pair,
+                se_pair: m.se_pair,
+                p_alone: m.p_alone,
+                gain,
+                settles,
+                partitions: m.partitions,
+                method: m.method,
+            };
+            (std::sync::Arc::new(s), false)
         })
         .collect();
     let mut out = Posterior {
@@ -1863,11 +2001,13 @@ pub fn posterior(
         std_error: vec![0.0; pairs.len()],
         p_alone: vec![1.0; tracks.len()],
         component: vec![u32::MAX; pairs.len()],
-        components: Vec::with_capacity(comps.len()),
+        components: Vec::with_capacity(solved.len()),
         gain: vec![0.0; pairs.len()],
         settles: vec![(0, 0); pairs.len()],
+        memo: Memo::default(),
     };
-    for (c, (comp, (m, (g, s)))) in comps.iter().zip(results).enumerate() {
+    for (c, (s, reused)) in solved.into_iter().enumerate() {
+        let comp = &s.comp;
         for (i, &(k, a, b)) in comp.pairs.iter().enumerate() {
             // decided pairs are certain, not merely close to it
             out.p_same[k] = if comp.block_of[a as usize] == comp.block_of[b as usize] {
@@ -1875,22 +2015,24 @@ pub fn posterior(
             } else if comp.different(a, b) {
                 0.0
             } else {
-                m.p_pair[i].clamp(0.0, 1.0)
+                s.p_pair[i].clamp(0.0, 1.0)
             };
-            out.std_error[k] = m.se_pair[i];
+            out.std_error[k] = s.se_pair[i];
             out.component[k] = c as u32;
-            out.gain[k] = g[i];
-            out.settles[k] = s[i];
+            out.gain[k] = s.gain[i];
+            out.settles[k] = s.settles[i];
         }
         for (x, &t) in comp.tracks.iter().enumerate() {
-            out.p_alone[t as usize] = m.p_alone[x].clamp(0.0, 1.0);
+            out.p_alone[t as usize] = s.p_alone[x].clamp(0.0, 1.0);
         }
         out.components.push(ComponentInfo {
             tracks: comp.tracks.len() as u32,
-            partitions: m.partitions,
-            method: m.method,
-            max_std_error: m.se_pair.iter().copied().fold(0.0, f64::max),
+            partitions: s.partitions,
+            method: s.method,
+            max_std_error: s.se_pair.iter().copied().fold(0.0, f64::max),
+            reused,
         });
+        out.memo.0.insert(comp.tracks[0], s);
     }
     Ok(out)
 }
@@ -2119,6 +2261,140 @@ mod tests {
             }
         }
         assert!(worst < 0.05, "worst {worst}");
+    }
+
+    /// The bit matrix of which tracks may share an object answers as the rules do, on random
+    /// components with pairs left out (tracks with a common instant and no pair are apart) and
+    /// decisions "different", for single tracks and for groups of them.
+    #[test]
+    fn the_clash_matrix_answers_as_the_rules() {
+        for seed in 0..6 {
+            let (tracks, mut pairs, mut llr) = random_component(seed, 11);
+            // every third pair left out: apart where the two tracks meet
+            let keep: Vec<bool> = (0..pairs.len()).map(|k| k % 3 != 1).collect();
+            let mut it = keep.iter();
+            pairs.retain(|_| *it.next().unwrap());
+            let mut it = keep.iter();
+            llr.retain(|_| *it.next().unwrap());
+            let dec: Vec<Decision> = pairs
+                .iter()
+                .step_by(4)
+                .enumerate()
+                .map(|(row, &(a, b))| Decision {
+                    a,
+                    b,
+                    same: false,
+                    row,
+                })
+                .collect();
+            let comps = components(&tracks, &whole(&tracks), &pairs, &own(&llr), &dec).unwrap();
+            let (mut apart, mut different, mut clash) = (0, 0, 0);
+            for comp in &comps {
+                assert!(comp.words > 0);
+                apart += comp.apart.len();
+                different += comp.different.len();
+                let m = comp.tracks.len() as u32;
+                for x in 0..m {
+                    for y in 0..m {
+                        let rules = x == y || comp.pair_compatible(x, y);
+                        assert_eq!(comp.compatible(&[x], &[y]), rules, "seed {seed} ({x}, {y})");
+                        clash += usize::from(!rules);
+                    }
+                }
+                for x in 0..m.saturating_sub(2) {
+                    let (xs, ys) = ([x, x + 1], [x + 2]);
+                    let rules = xs
+                        .iter()
+                        .all(|&a| ys.iter().all(|&b| comp.pair_compatible(a, b)));
+                    assert_eq!(comp.compatible(&xs, &ys), rules);
+                }
+            }
+            // the rules were exercised: apart pairs, decisions and clashes
+            assert!(apart > 0 && different > 0 && clash > 0, "seed {seed}");
+        }
+    }
+
+    /// A memo from an earlier call: the same inputs take every component from it; under a
+    /// decision, the components the decision does not touch are taken from it and the one it
+    /// touches is computed again, and the result is the one computed from scratch, bit for
+    /// bit. Sampled components (enumeration off), so that a stale result would show.
+    #[test]
+    fn decisions_recompute_only_the_components_they_change() {
+        let (t1, p1, l1) = random_component(3, 7);
+        let (t2, p2, l2) = random_component(4, 7);
+        let n1 = t1.len() as u32;
+        let tracks: Vec<Track> = t1.iter().chain(&t2).copied().collect();
+        let pairs: Vec<(u32, u32)> = p1
+            .iter()
+            .copied()
+            .chain(p2.iter().map(|&(a, b)| (a + n1, b + n1)))
+            .collect();
+        let llr: Vec<f64> = l1.iter().chain(&l2).copied().collect();
+        let inf = Inference {
+            exact_limit: 0,
+            chains: 4,
+            sweeps: 200,
+            seed: 5,
+        };
+        let cover = whole(&tracks);
+        let ev = own(&llr);
+        let run = |dec: &[Decision], memo: Option<&Memo>| {
+            posterior_reusing(&tracks, &cover, &pairs, &ev, dec, &inf, (0.01, 0.99), memo).unwrap()
+        };
+        let base = run(&[], None);
+        assert!(base.components.iter().all(|c| !c.reused));
+        assert_eq!(base.memo.len(), base.components.len());
+        // the same result, bit for bit (every field but `reused`)
+        let same = |x: &Posterior, y: &Posterior| {
+            let bits = |v: &Vec<f64>| v.iter().map(|p| p.to_bits()).collect::<Vec<u64>>();
+            for (u, v) in [
+                (&x.p_same, &y.p_same),
+                (&x.std_error, &y.std_error),
+                (&x.p_alone, &y.p_alone),
+                (&x.gain, &y.gain),
+            ] {
+                assert_eq!(bits(u), bits(v));
+            }
+            assert_eq!(x.settles, y.settles);
+            assert_eq!(x.component, y.component);
+            let info = |p: &Posterior| {
+                p.components
+                    .iter()
+                    .map(|c| ComponentInfo {
+                        reused: false,
+                        ..*c
+                    })
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(info(x), info(y));
+        };
+        let again = run(&[], Some(&base.memo));
+        assert!(again.components.iter().all(|c| c.reused));
+        same(&again, &base);
+        // "different" on the second part's strongest pair
+        let k = (p1.len()..pairs.len())
+            .max_by(|&i, &j| llr[i].total_cmp(&llr[j]))
+            .unwrap();
+        let (a, b) = pairs[k];
+        let dec = [Decision {
+            a,
+            b,
+            same: false,
+            row: 0,
+        }];
+        let fresh = run(&dec, None);
+        let reused = run(&dec, Some(&base.memo));
+        let touched = fresh.component[k] as usize;
+        for (c, info) in reused.components.iter().enumerate() {
+            assert_eq!(info.reused, c != touched, "component {c}");
+        }
+        same(&fresh, &reused);
+        // the decision moved the touched component's other pairs (the memo's were stale)
+        let moved = (0..pairs.len())
+            .filter(|&i| i != k && fresh.component[i] as usize == touched)
+            .any(|i| (fresh.p_same[i] - base.p_same[i]).abs() > 0.01);
+        assert!(moved);
+        assert_eq!(reused.p_same[k], 0.0);
     }
 
     /// The two-object update with blocks held keeps the posterior: with at most 3 blocks
