@@ -716,19 +716,22 @@ def test_false_overlap_is_the_share_of_a_source_s_reports_where_the_objects_are(
     assert res.false_overlap["ais"] == 1.0
 
 
+def _moored_pair_under_a_radar(rng):
+    """Two ships 30 m apart, each with an AIS track, and a radar track (2-sigma 300 m) of the
+    first; and a third ship far away with a precise radar track."""
+    return [
+        straight_track(rng, "ais-1", "ais", (0, 0), (5, 0), 10, 5),
+        straight_track(rng, "ais-2", "ais", (0, 30), (5, 0), 10, 5),
+        straight_track(rng, "radar", "radar", (0, 0), (5, 0), 4, 150),
+        straight_track(rng, "ais-3", "ais", (0, 5000), (5, 0), 10, 5),
+        straight_track(rng, "radar-3", "radar", (0, 5000), (5, 0), 4, 20),
+    ]
+
+
 def test_ships_geometry_cannot_separate_are_left_to_the_operator(rng):
-    # two ships 30 m apart, each with an AIS track, and a radar track (2-sigma 300 m) of the first:
-    # geography cannot tell which ship the radar sees, so neither pair may be a confident merge
-    frame = pd.concat(
-        [
-            straight_track(rng, "ais-1", "ais", (0, 0), (5, 0), 10, 5),
-            straight_track(rng, "ais-2", "ais", (0, 30), (5, 0), 10, 5),
-            straight_track(rng, "radar", "radar", (0, 0), (5, 0), 4, 150),
-            # a third ship far away with a precise radar track: unambiguous
-            straight_track(rng, "ais-3", "ais", (0, 5000), (5, 0), 10, 5),
-            straight_track(rng, "radar-3", "radar", (0, 5000), (5, 0), 4, 20),
-        ]
-    )
+    # geography cannot tell which of the two ships the radar sees, so neither pair may be a
+    # confident merge; the third ship's pair is unambiguous
+    frame = pd.concat(_moored_pair_under_a_radar(rng))
     res = geofeas.associate(frame)
     pairs = res.pairs.set_index(["track_a", "track_b"])
     assert pairs.loc[("ais-1", "radar"), "class"] == "borderline"
@@ -766,11 +769,7 @@ def test_decisions_recompute_only_the_components_they_change(rng):
     # its radar track, and two more ships 40 m apart under a vague aircraft track
     frame = pd.concat(
         [
-            straight_track(rng, "ais-1", "ais", (0, 0), (5, 0), 10, 5),
-            straight_track(rng, "ais-2", "ais", (0, 30), (5, 0), 10, 5),
-            straight_track(rng, "radar", "radar", (0, 0), (5, 0), 4, 150),
-            straight_track(rng, "ais-3", "ais", (0, 5000), (5, 0), 10, 5),
-            straight_track(rng, "radar-3", "radar", (0, 5000), (5, 0), 4, 20),
+            *_moored_pair_under_a_radar(rng),
             straight_track(rng, "ais-4", "ais", (0, 20000), (5, 0), 10, 5),
             straight_track(rng, "ais-5", "ais", (0, 20040), (5, 0), 10, 5),
             straight_track(rng, "air", "aircraft", (0, 20000), (5, 0), 6, 200),

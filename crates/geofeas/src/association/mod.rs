@@ -683,7 +683,7 @@ pub fn finish(
             ..*t
         })
         .collect();
-    let post = posterior::posterior_reusing(
+    let post = posterior::posterior(
         &weighed,
         cover,
         &pairs,

@@ -434,10 +434,10 @@ struct Component {
     /// Precision order of the local tracks.
     rank: Vec<u32>,
     /// Whether two local tracks may not share an object, row `x` bit `y` (rows of
-    /// [`Component::words`] words), built from the rules of [`Component::compatible`] when the
-    /// component has at most [`CLASH_MATRIX_TRACKS`] tracks: the sampler asks it at every move.
+    /// `ceil(tracks / 64)` words), built from the rules of [`Component::compatible`] when the
+    /// component has at most [`CLASH_MATRIX_TRACKS`] tracks (empty otherwise): the sampler
+    /// asks it at every move.
     clash: Vec<u64>,
-    words: usize,
 }
 
 /// The most tracks of a component whose pairwise feasibility is held as a bit matrix
@@ -470,9 +470,10 @@ impl Component {
     /// a candidate pair (or declared the same): tracks whose AOUs never came close while both
     /// existed are two objects.
     fn compatible(&self, xs: &[u32], ys: &[u32]) -> bool {
-        if self.words > 0 {
+        if !self.clash.is_empty() {
+            let words = self.tracks.len().div_ceil(64);
             return xs.iter().all(|&x| {
-                let row = &self.clash[x as usize * self.words..][..self.words];
+                let row = &self.clash[x as usize * words..][..words];
                 ys.iter()
                     .all(|&y| row[y as usize >> 6] >> (y & 63) & 1 == 0)
             });
@@ -505,7 +506,6 @@ impl Component {
             }
         }
         self.clash = clash;
-        self.words = words;
     }
 
     /// `(L, k_y)` through which `x` joins the tree of `attached` members: over the members at
@@ -778,7 +778,6 @@ fn components(
                 pairs: Vec::new(),
                 rank: Vec::new(),
                 clash: Vec::new(),
-                words: 0,
             });
             comps.len() - 1
         });
@@ -1928,23 +1927,11 @@ fn review_gain(
 /// The posterior of every pair and track (see the module docs). `pairs[k]` has log-likelihood
 /// ratio `evidence[k].llr`, of which `evidence[k].own` are the terms of its two tracks alone
 /// (the log-odds that each is not a false track, counted once per object); `p_reject` and `p_match` bound the band
-/// in which review values are computed.
-pub fn posterior(
-    tracks: &[Track],
-    cover: &TimeCover,
-    pairs: &[(u32, u32)],
-    evidence: &[PairEvidence],
-    decisions: &[Decision],
-    inf: &Inference,
-    band: (f64, f64),
-) -> Result<Posterior> {
-    posterior_reusing(tracks, cover, pairs, evidence, decisions, inf, band, None)
-}
-
-/// [`posterior`], taking every component found unchanged in `memo` (an earlier call's
-/// [`Posterior::memo`]) from it instead of computing it again; the result is the same.
+/// in which review values are computed. A component found unchanged in `memo` (an earlier
+/// call's [`Posterior::memo`]) is taken from it instead of computed again; the result is the
+/// same.
 #[allow(clippy::too_many_arguments)]
-pub fn posterior_reusing(
+pub fn posterior(
     tracks: &[Track],
     cover: &TimeCover,
     pairs: &[(u32, u32)],
@@ -2163,6 +2150,7 @@ mod tests {
                 &[],
                 &Inference::default(),
                 (0.01, 0.99),
+                None,
             )
             .unwrap();
             let want = 1.0 / (1.0 + (-l).exp());
@@ -2217,6 +2205,7 @@ mod tests {
             &[],
             &inf,
             (0.01, 0.99),
+            None,
         )
         .unwrap();
         // (a lone track's one partition is enumerated whatever the limit)
@@ -2240,6 +2229,7 @@ mod tests {
                 &[],
                 &Inference::default(),
                 (0.01, 0.99),
+                None,
             )
             .unwrap();
             assert!(exact.components.iter().all(|c| c.method == Method::Exact));
@@ -2290,7 +2280,7 @@ mod tests {
             let comps = components(&tracks, &whole(&tracks), &pairs, &own(&llr), &dec).unwrap();
             let (mut apart, mut different, mut clash) = (0, 0, 0);
             for comp in &comps {
-                assert!(comp.words > 0);
+                assert!(!comp.clash.is_empty());
                 apart += comp.apart.len();
                 different += comp.different.len();
                 let m = comp.tracks.len() as u32;
@@ -2339,7 +2329,7 @@ mod tests {
         let cover = whole(&tracks);
         let ev = own(&llr);
         let run = |dec: &[Decision], memo: Option<&Memo>| {
-            posterior_reusing(&tracks, &cover, &pairs, &ev, dec, &inf, (0.01, 0.99), memo).unwrap()
+            posterior(&tracks, &cover, &pairs, &ev, dec, &inf, (0.01, 0.99), memo).unwrap()
         };
         let base = run(&[], None);
         assert!(base.components.iter().all(|c| !c.reused));
@@ -2590,6 +2580,7 @@ mod tests {
             &[],
             &inf,
             (0.01, 0.99),
+            None,
         )
         .unwrap();
         // the pairs of the passes with the ships' AIS tracks
@@ -2631,6 +2622,7 @@ mod tests {
                 &[],
                 inf,
                 (0.01, 0.99),
+                None,
             )
             .unwrap()
         };
@@ -2692,6 +2684,7 @@ mod tests {
             dec,
             &Inference::default(),
             (0.01, 0.99),
+            None,
         )
         .unwrap()
     }
@@ -2744,6 +2737,7 @@ mod tests {
             &[],
             &inf,
             (0.01, 0.99),
+            None,
         )
         .unwrap();
         assert_eq!(p.components[0].method, Method::Sampled);
@@ -3125,6 +3119,7 @@ mod tests {
                 decisions,
                 &Inference::default(),
                 (0.01, 0.99),
+                None,
             )
             .unwrap_err();
             let rows = err.rows().map(|r| r.0.to_vec());
