@@ -416,6 +416,9 @@ struct Component {
     info: Vec<Track>,
     /// Sorted adjacency per local track (candidate pairs and decided pairs).
     adj: Vec<Vec<Edge>>,
+    /// The other track of each edge of `adj`, row by row: what the sampler searches and walks
+    /// at every move, 4 bytes a pair where an [`Edge`] takes 72.
+    neighbours: Vec<Vec<u32>>,
     /// The pieces of [`Edge::pieces`].
     pieces: Vec<Piece>,
     /// Number of reports of each local track (its whole measure, see [`Piece`]).
@@ -451,8 +454,8 @@ impl Component {
 
     /// The pair `x`, `y` seen from `x`.
     fn edge_from(&self, x: u32, y: u32) -> Option<&Edge> {
-        let row = &self.adj[x as usize];
-        row.binary_search_by_key(&y, |e| e.to).ok().map(|k| &row[k])
+        let k = self.neighbours[x as usize].binary_search(&y).ok()?;
+        Some(&self.adj[x as usize][k])
     }
 
     fn different(&self, x: u32, y: u32) -> bool {
@@ -769,6 +772,7 @@ fn components(
                 tracks: Vec::new(),
                 info: Vec::new(),
                 adj: Vec::new(),
+                neighbours: Vec::new(),
                 pieces: Vec::new(),
                 reports: Vec::new(),
                 blocks: Vec::new(),
@@ -858,6 +862,11 @@ fn components(
             row.sort_by(|x, y| x.to.cmp(&y.to).then(y.l.total_cmp(&x.l)));
             row.dedup_by_key(|e| e.to);
         }
+        comp.neighbours = comp
+            .adj
+            .iter()
+            .map(|row| row.iter().map(|e| e.to).collect())
+            .collect();
         comp.different.sort_unstable();
         comp.different.dedup();
         // tracks with a common instant but no pair, swept in order of their first report
@@ -1056,6 +1065,8 @@ struct Chain<'a> {
     cell_w: Vec<f64>,
     free: Vec<u32>,
     scratch: Vec<u32>,
+    /// Buffers of [`Chain::moves`] and [`Chain::step`].
+    bufs: MoveBuffers,
     /// Buffers of [`Chain::redraw_pair`]: its options, the tracks of an object it weighs, the
     /// blocks it may draw from and the blocks it holds in each of the two objects.
     pair_options: Vec<(u32, f64)>,
@@ -1069,6 +1080,20 @@ struct Chain<'a> {
     beta: f64,
     /// Log-weight of the current partition.
     logw: f64,
+}
+
+/// The buffers [`Chain::moves`] fills at every move, kept between moves: the moves forward and
+/// back, the tracks of the mover's object without it, of an object it would make, and the cells
+/// near it.
+#[derive(Default)]
+struct MoveBuffers {
+    fwd: Vec<(Move, f64)>,
+    rev: Vec<(Move, f64)>,
+    rest: Vec<u32>,
+    joined: Vec<u32>,
+    back: Vec<u32>,
+    near: Vec<u32>,
+    extra: Vec<u32>,
 }
 
 /// Inverse temperatures of the tempered copies of every chain (the first is the posterior).
@@ -1108,6 +1133,7 @@ impl<'a> Chain<'a> {
             cell_blocks,
             free: Vec::new(),
             scratch: Vec::new(),
+            bufs: MoveBuffers::default(),
             pair_options: Vec::new(),
             pair_tracks: Vec::new(),
             pair_others: Vec::new(),
@@ -1125,15 +1151,12 @@ impl<'a> Chain<'a> {
         ch
     }
 
-    fn tracks_of(&self, blocks: &[u32]) -> Vec<u32> {
-        blocks
-            .iter()
-            .flat_map(|&b| self.comp.blocks[b as usize].iter().copied())
-            .collect()
-    }
-
     fn refresh(&mut self, c: u32) {
-        let t = self.tracks_of(&self.cell_blocks[c as usize]);
+        let mut t = std::mem::take(&mut self.cell_tracks[c as usize]);
+        t.clear();
+        for &k in &self.cell_blocks[c as usize] {
+            t.extend_from_slice(&self.comp.blocks[k as usize]);
+        }
         let w = self.comp.cell_weight(&t, &mut self.scratch);
         self.logw += w - self.cell_w[c as usize];
         self.cell_w[c as usize] = w;
@@ -1147,23 +1170,28 @@ impl<'a> Chain<'a> {
         w
     }
 
-    /// The moves of block `b` from the current state, with their log-weight changes.
-    fn moves(&mut self, b: u32) -> Vec<(Move, f64)> {
+    /// The moves of block `b` from the current state, with their log-weight changes, into
+    /// `out` (emptied first).
+    fn moves(&mut self, b: u32, out: &mut Vec<(Move, f64)>) {
         let comp = self.comp;
         let old = self.label[b as usize];
         let mine = &comp.blocks[b as usize];
-        let old_rest: Vec<u32> = self.cell_tracks[old as usize]
-            .iter()
-            .copied()
-            .filter(|x| comp.block_of[*x as usize] != b)
-            .collect();
+        let mut old_rest = std::mem::take(&mut self.bufs.rest);
+        old_rest.clear();
+        old_rest.extend(
+            self.cell_tracks[old as usize]
+                .iter()
+                .copied()
+                .filter(|x| comp.block_of[*x as usize] != b),
+        );
         let w_old = self.cell_w[old as usize];
         let w_old_rest = if old_rest.is_empty() {
             0.0
         } else {
             self.weight_of(&old_rest)
         };
-        let mut out = vec![(Move::Stay, 0.0)];
+        out.clear();
+        out.push((Move::Stay, 0.0));
         if !old_rest.is_empty() && w_old_rest > f64::NEG_INFINITY {
             out.push((Move::Alone, w_old_rest - w_old));
         }
@@ -1171,81 +1199,94 @@ impl<'a> Chain<'a> {
         // MAX_SWAP blocks, all in conflict with it, that hold a neighbour of its cell, which it
         // may swap with (it leaves for an object of its own, they join its cell): the reverse
         // of a swap made by a block alone, which must be proposed for the chain to be reversible
-        let cells_of = |ch: &Self, xs: &[u32]| -> Vec<u32> {
-            let mut cs: Vec<u32> = xs
-                .iter()
-                .flat_map(|&x| comp.adj[x as usize].iter().map(|e| e.to))
-                .map(|y| ch.label[comp.block_of[y as usize] as usize])
-                .filter(|&c| c != old)
-                .collect();
+        let cells_of = |ch: &Self, xs: &[u32], cs: &mut Vec<u32>| {
+            cs.clear();
+            cs.extend(
+                xs.iter()
+                    .flat_map(|&x| comp.neighbours[x as usize].iter())
+                    .map(|&y| ch.label[comp.block_of[y as usize] as usize])
+                    .filter(|&c| c != old),
+            );
             cs.sort_unstable();
             cs.dedup();
-            cs
         };
-        let near = cells_of(self, mine);
-        let extra: Vec<u32> = if old_rest.is_empty() {
-            Vec::new()
-        } else {
-            cells_of(self, &old_rest)
-                .into_iter()
-                .filter(|c| near.binary_search(c).is_err())
-                .filter(|&c| {
-                    let cell = &self.cell_blocks[c as usize];
-                    cell.len() <= MAX_SWAP
-                        && cell
-                            .iter()
-                            .all(|&k| !comp.compatible(&comp.blocks[k as usize], mine))
-                })
-                .collect()
-        };
-        for c in near.into_iter().chain(extra) {
+        let mut near = std::mem::take(&mut self.bufs.near);
+        let mut extra = std::mem::take(&mut self.bufs.extra);
+        cells_of(self, mine, &mut near);
+        extra.clear();
+        if !old_rest.is_empty() {
+            cells_of(self, &old_rest, &mut extra);
+            extra.retain(|&c| {
+                let cell = &self.cell_blocks[c as usize];
+                near.binary_search(&c).is_err()
+                    && cell.len() <= MAX_SWAP
+                    && cell
+                        .iter()
+                        .all(|&k| !comp.compatible(&comp.blocks[k as usize], mine))
+            });
+        }
+        let mut joined = std::mem::take(&mut self.bufs.joined);
+        let mut back = std::mem::take(&mut self.bufs.back);
+        for &c in near.iter().chain(&extra) {
             let cell = &self.cell_blocks[c as usize];
-            let conflicts: Vec<u32> = cell
-                .iter()
-                .copied()
-                .filter(|&k| !comp.compatible(&comp.blocks[k as usize], mine))
-                .collect();
-            if conflicts.len() == cell.len() && old_rest.is_empty() {
+            // the blocks of the cell in conflict with the mover (the first MAX_SWAP of them)
+            let mut conflicts = [0u32; MAX_SWAP];
+            let mut n = 0usize;
+            for &k in cell {
+                if !comp.compatible(&comp.blocks[k as usize], mine) {
+                    if n < MAX_SWAP {
+                        conflicts[n] = k;
+                    }
+                    n += 1;
+                }
+            }
+            if n == cell.len() && old_rest.is_empty() {
                 // a block alone trading places with a whole cell changes no object
                 continue;
             }
             let w_c = self.cell_w[c as usize];
-            match conflicts.len() {
-                0 => {
-                    let mut joined = self.cell_tracks[c as usize].clone();
-                    joined.extend_from_slice(mine);
-                    let w = self.weight_of(&joined);
-                    if w > f64::NEG_INFINITY && w_old_rest > f64::NEG_INFINITY {
-                        out.push((Move::Join(c), w + w_old_rest - w_c - w_old));
-                    }
+            if n == 0 {
+                joined.clear();
+                joined.extend_from_slice(&self.cell_tracks[c as usize]);
+                joined.extend_from_slice(mine);
+                let w = self.weight_of(&joined);
+                if w > f64::NEG_INFINITY && w_old_rest > f64::NEG_INFINITY {
+                    out.push((Move::Join(c), w + w_old_rest - w_c - w_old));
                 }
-                n if n <= MAX_SWAP => {
-                    let kt: Vec<u32> = conflicts
+            } else if n <= MAX_SWAP {
+                let conflicts = &conflicts[..n];
+                back.clear();
+                back.extend_from_slice(&old_rest);
+                let rest = back.len();
+                back.extend(
+                    conflicts
                         .iter()
-                        .flat_map(|&k| comp.blocks[k as usize].iter().copied())
-                        .collect();
-                    if !comp.compatible(&kt, &old_rest) {
-                        continue;
-                    }
-                    let mut joined: Vec<u32> = self.cell_tracks[c as usize]
+                        .flat_map(|&k| comp.blocks[k as usize].iter().copied()),
+                );
+                if !comp.compatible(&back[rest..], &old_rest) {
+                    continue;
+                }
+                joined.clear();
+                joined.extend(
+                    self.cell_tracks[c as usize]
                         .iter()
                         .copied()
-                        .filter(|x| !conflicts.contains(&comp.block_of[*x as usize]))
-                        .collect();
-                    joined.extend_from_slice(mine);
-                    let mut back = old_rest.clone();
-                    back.extend_from_slice(&kt);
-                    let (w1, w2) = (self.weight_of(&joined), self.weight_of(&back));
-                    if w1 > f64::NEG_INFINITY && w2 > f64::NEG_INFINITY {
-                        let mut ks = [0u32; MAX_SWAP];
-                        ks[..n].copy_from_slice(&conflicts);
-                        out.push((Move::Swap(c, ks, n), w1 + w2 - w_c - w_old));
-                    }
+                        .filter(|x| !conflicts.contains(&comp.block_of[*x as usize])),
+                );
+                joined.extend_from_slice(mine);
+                let (w1, w2) = (self.weight_of(&joined), self.weight_of(&back));
+                if w1 > f64::NEG_INFINITY && w2 > f64::NEG_INFINITY {
+                    let mut ks = [0u32; MAX_SWAP];
+                    ks[..n].copy_from_slice(conflicts);
+                    out.push((Move::Swap(c, ks, n), w1 + w2 - w_c - w_old));
                 }
-                _ => {}
             }
         }
-        out
+        self.bufs.rest = old_rest;
+        self.bufs.near = near;
+        self.bufs.extra = extra;
+        self.bufs.joined = joined;
+        self.bufs.back = back;
     }
 
     fn set(&mut self, b: u32, to: u32) {
@@ -1509,7 +1550,8 @@ impl<'a> Chain<'a> {
     /// adds the Rao-Blackwellised marginals of the current state.
     fn step(&mut self, b: u32, rng: &mut Xoshiro256PlusPlus, acc: Option<&mut Conditionals>) {
         let beta = self.beta;
-        let fwd = self.moves(b);
+        let mut fwd = std::mem::take(&mut self.bufs.fwd);
+        self.moves(b, &mut fwd);
         if let Some(acc) = acc {
             debug_assert_eq!(beta, 1.0);
             self.rao_blackwell(b, &fwd, acc);
@@ -1526,14 +1568,17 @@ impl<'a> Chain<'a> {
             }
         }
         let (mv, delta) = fwd[pick];
+        self.bufs.fwd = fwd;
         if matches!(mv, Move::Stay) {
             return;
         }
         let old = self.label[b as usize];
         let was_alone = self.cell_blocks[old as usize].len() == 1;
         self.apply(b, mv);
-        let rev = self.moves(b);
+        let mut rev = std::mem::take(&mut self.bufs.rev);
+        self.moves(b, &mut rev);
         let lse_rev = log_sum_exp(rev.iter().map(|m| beta * m.1));
+        self.bufs.rev = rev;
         let log_accept = lse_fwd - beta * delta - lse_rev;
         if log_accept < 0.0 && unit(rng) >= log_accept.exp() {
             // undo with the inverse move (cell ids are arbitrary labels)
@@ -2422,6 +2467,43 @@ mod tests {
             }
         }
         assert!(worst < 0.05, "worst {worst}");
+    }
+
+    /// Every pair is found from both of its tracks, with its own ratio, through the rows of
+    /// neighbours the sampler searches, whatever order the pairs come in; and no other.
+    #[test]
+    fn every_pair_is_found_from_both_its_tracks() {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
+        for seed in 0..6 {
+            let (tracks, mut pairs, mut llr) = random_component(seed, 12);
+            for i in (1..pairs.len()).rev() {
+                let j = below(i + 1, &mut rng);
+                pairs.swap(i, j);
+                llr.swap(i, j);
+                let (a, b) = pairs[i];
+                if unit(&mut rng) < 0.5 {
+                    pairs[i] = (b, a);
+                }
+            }
+            let comps = components(&tracks, &whole(&tracks), &pairs, &own(&llr), &[]).unwrap();
+            let mut found = 0;
+            for comp in &comps {
+                let local = |t: u32| comp.tracks.iter().position(|&g| g == t).map(|x| x as u32);
+                for x in 0..comp.tracks.len() as u32 {
+                    for y in 0..comp.tracks.len() as u32 {
+                        let (gx, gy) = (comp.tracks[x as usize], comp.tracks[y as usize]);
+                        let want = pairs
+                            .iter()
+                            .position(|&p| p == (gx, gy) || p == (gy, gx))
+                            .map(|k| llr[k]);
+                        assert_eq!(comp.edge(x, y), want, "seed {seed}: {gx} {gy}");
+                        found += usize::from(want.is_some());
+                        assert_eq!(local(gx), Some(x));
+                    }
+                }
+            }
+            assert_eq!(found, 2 * pairs.len(), "seed {seed}");
+        }
     }
 
     #[test]
