@@ -481,6 +481,15 @@ def test_cli_rejects_unknown_sensor(capsys):
     assert "unknown sensor(s) sonar" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("value", ["0", "-3", "2.5"])
+def test_cli_rejects_an_operator_batch_that_is_no_count(capsys, value):
+    from geofeas.cli import main
+
+    with pytest.raises(SystemExit):
+        main(["demo", "--operator-batch", value])
+    assert "--operator-batch" in capsys.readouterr().err
+
+
 def test_reliability_table_and_ece_by_hand():
     from geofeas.demo.evaluate import reliability
 

@@ -9,9 +9,10 @@ import pytest
 # F1 of the automatic matches with AIS and radar; with every source, where the aircraft and HF
 # DF pairs geometry cannot decide go to the operator, F1 after 100 truthful decisions
 @pytest.mark.parametrize(
-    "sensors, decisions, bound", [("ais,radar", 0, 0.9), ("ais,radar,aircraft,hfdf", 100, 0.95)]
+    "sensors, decisions, bound, batch",
+    [("ais,radar", 0, 0.9, 25), ("ais,radar,aircraft,hfdf", 100, 0.95, 10)],
 )
-def test_demo_command_end_to_end(tmp_path, capsys, sensors, decisions, bound):
+def test_demo_command_end_to_end(tmp_path, capsys, sensors, decisions, bound, batch):
     from geofeas.cli import main
 
     out = tmp_path / "demo"
@@ -24,9 +25,12 @@ def test_demo_command_end_to_end(tmp_path, capsys, sensors, decisions, bound):
         "--out",
         str(out),
         "--no-progress",
+        "--operator-batch",
+        str(batch),
     ]
     assert main(args) == 0
     text = capsys.readouterr().out
+    assert f"F1 after truthful decisions in review order (recomputed every {batch})" in text
     assert "removed 1 row(s): physically impossible jump" in text
     assert "precision" in text and "expected calibration error" in text
     assert "F1 after truthful decisions" in text

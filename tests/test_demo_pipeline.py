@@ -90,3 +90,47 @@ def test_calibrated_rule_beats_the_plain_mean(short_demo):
 
     runs = {(r.score, r.combine): r for r in short_demo.runs}
     assert separation(short_demo.default) > separation(runs[("glr", "geometric")]) + 0.3
+
+
+@pytest.mark.parametrize("batch, recomputations", [(1, 12), (5, 3), (25, 1)])
+def test_the_operator_recomputes_after_each_batch(short_demo, monkeypatch, batch, recomputations):
+    """The simulated operator answers ``batch`` pairs from the head of the queue between two
+    recomputations, and no more than the checkpoint needs: 12 decisions in batches of 5 are
+    three recomputations (5, 5, 2)."""
+    from geofeas.association import Association
+    from geofeas.demo.evaluate import simulate_operator, track_table
+
+    calls: list[int] = []
+    real = Association.with_decisions
+
+    def counted(self, decisions, *args, **kwargs):
+        calls.append(len(decisions))
+        return real(self, decisions, *args, **kwargs)
+
+    monkeypatch.setattr(Association, "with_decisions", counted)
+    sc = short_demo.scenario
+    op = simulate_operator(
+        short_demo.default.association,
+        track_table(sc.reports, sc.seconds),
+        checkpoints=(0, 12),
+        batch=batch,
+    )
+    assert list(op["decisions"]) == [0, 12]
+    assert len(calls) == recomputations
+    assert calls[-1] == 12
+    steps = np.diff([0, *calls])
+    assert (steps[:-1] == batch).all() and 1 <= steps[-1] <= batch
+
+
+def test_no_map_leaves_the_other_figures(short_demo, tmp_path):
+    """``--no-map`` leaves out map.png alone: the reliability diagram and the operator's curve
+    are still drawn; ``--no-figures`` draws none and writes the same tables."""
+    from geofeas.demo import write_outputs
+
+    no_map = {p.name for p in write_outputs(short_demo, tmp_path / "a", map_png=False)}
+    assert {"calibration.png", "operator.png"} <= no_map and "map.png" not in no_map
+    assert (tmp_path / "a" / "calibration.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    none = {p.name for p in write_outputs(short_demo, tmp_path / "b", figures=False)}
+    assert not {n for n in none if n.endswith(".png")}
+    assert none == {n for n in no_map if not n.endswith(".png")}
+    assert not list((tmp_path / "b").glob("*.png"))

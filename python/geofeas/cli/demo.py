@@ -15,7 +15,8 @@ the truth column ``mmsi``; ``geofeas associate`` reads it), ``pairs.csv`` (the d
 association's candidate pairs with the truth), ``metrics.csv`` and ``metrics.md``,
 ``metrics_by_sources.csv``, ``calibration.csv`` and ``calibration.png`` (the reliability
 diagram), ``operator.csv`` and ``operator.png`` (F1 against decisions) and ``map.png`` (AOUs of
-a busy area coloured by associated object); the figures need matplotlib.
+a busy area coloured by associated object); the figures need matplotlib (--no-map: no map.png,
+--no-figures: none).
 """
 
 from __future__ import annotations
@@ -46,6 +47,16 @@ def _sensors(text: str) -> list[str]:
     return names
 
 
+def _count(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"must be >= 1, got {n}")
+    return n
+
+
 def main(args: argparse.Namespace) -> int:
     try:
         from ..demo import fmt, run, write_outputs
@@ -61,6 +72,7 @@ def main(args: argparse.Namespace) -> int:
         combines=args.combine or (),
         options=options,
         operator=None if args.no_operator else (0, 25, 50, 100, 200),
+        operator_batch=args.operator_batch,
         progress=not args.no_progress,
         log=print,
     )
@@ -109,7 +121,10 @@ def main(args: argparse.Namespace) -> int:
         )
     if result.operator is not None:
         steps = "  ".join(f"{int(r.decisions)}: {fmt(r.f1)}" for r in result.operator.itertuples())
-        print(f"  F1 after truthful decisions in review order: {steps}")
+        print(
+            f"  F1 after truthful decisions in review order (recomputed every "
+            f"{args.operator_batch}): {steps}"
+        )
         steps = "  ".join(
             f"{int(r.decisions)}: {fmt(r.object_f1)}" for r in result.operator.itertuples()
         )
@@ -140,7 +155,7 @@ def main(args: argparse.Namespace) -> int:
                 f"{fmt(x.f1):>7}{x.classes['match']:>8}{x.classes['borderline']:>8}"
                 f"{x.classes['non-match']:>8}{x.seconds:>8.2f}"
             )
-    written = write_outputs(result, args.out, map_png=not args.no_map)
+    written = write_outputs(result, args.out, map_png=not args.no_map, figures=not args.no_figures)
     print(f"\nwrote {', '.join(str(p) for p in written)}")
     if args.review:
         from .review import review_demo
@@ -186,7 +201,20 @@ def add_parser(sub: Any) -> None:
     )
     add_triage_arguments(p)
     p.add_argument("--no-operator", action="store_true", help="do not simulate the operator")
+    p.add_argument(
+        "--operator-batch",
+        type=_count,
+        default=25,
+        metavar="N",
+        help="decisions the simulated operator answers between two recomputations of the "
+        "association (default 25; a review station recomputes after every decision: 1)",
+    )
     p.add_argument("--no-map", action="store_true", help="do not draw map.png")
+    p.add_argument(
+        "--no-figures",
+        action="store_true",
+        help="draw no figure (map.png, calibration.png, operator.png: they need matplotlib)",
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     p.add_argument(
         "--review",

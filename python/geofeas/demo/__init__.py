@@ -197,6 +197,7 @@ def run(
     combines: Sequence[str] = (),
     options: dict[str, Any] | None = None,
     operator: Sequence[int] | None = (0, 25, 50, 100, 200),
+    operator_batch: int = 25,
     progress: bool = True,
     log: Callable[[str], None] | None = None,
 ) -> DemoResult:
@@ -217,6 +218,10 @@ def run(
     operator : sequence of int, optional
         Decision counts at which the simulated operator's F1 is recorded (``None``: no
         simulation).
+    operator_batch : int
+        Decisions the simulated operator answers between two recomputations of the
+        association (:func:`simulate_operator`'s ``batch``; a review station recomputes after
+        every decision, ``1``, at a recomputation's cost each).
     progress : bool
         Show a progress bar on stderr over the associations.
     log : callable, optional
@@ -262,7 +267,9 @@ def run(
             bar.step(f"{s} / {c}")
     op = None
     if operator is not None:
-        op = simulate_operator(default.association, tracks, checkpoints=operator)
+        op = simulate_operator(
+            default.association, tracks, checkpoints=operator, batch=operator_batch
+        )
         if bar:
             bar.step("simulated operator")
     return DemoResult(rec, sc, tracks, default, runs, table, ece, op, bound)
@@ -458,11 +465,15 @@ def plot_map(
     return out
 
 
-def write_outputs(result: DemoResult, out: str | Path, *, map_png: bool = True) -> list[Path]:
+def write_outputs(
+    result: DemoResult, out: str | Path, *, map_png: bool = True, figures: bool = True
+) -> list[Path]:
     """Write ``reports.csv`` (the simulated reports, every value exactly as associated),
     ``pairs.csv`` (default association, with the truth), ``metrics.csv``,
-    ``metrics.md`` (the table in Markdown), ``metrics_by_sources.csv`` and ``map.png`` into
-    ``out``; returns the paths written."""
+    ``metrics.md`` (the table in Markdown), ``metrics_by_sources.csv``, ``calibration.csv``
+    and ``operator.csv`` (when the result has them) into ``out``, and with ``figures`` (they
+    need matplotlib) ``calibration.png``, ``operator.png`` and, with ``map_png`` too,
+    ``map.png``; returns the paths written."""
     d = Path(out)
     d.mkdir(parents=True, exist_ok=True)
     written = []
@@ -507,8 +518,9 @@ def write_outputs(result: DemoResult, out: str | Path, *, map_png: bool = True) 
         with atomic_path(p) as tmp:
             result.operator.to_csv(tmp, index=False, float_format="%.4f")
         written.append(p)
-    if map_png:
-        written.append(plot_map(result, d / "map.png"))
+    if figures:
+        if map_png:
+            written.append(plot_map(result, d / "map.png"))
         if result.calibration is not None:
             written.append(plot_reliability(result, d / "calibration.png"))
         if result.operator is not None:
@@ -528,7 +540,7 @@ def _pyplot() -> Any:
         import matplotlib.pyplot as plt
     except ImportError:
         raise GeofeasError(
-            'the figures need matplotlib: pip install "geofeas[plot]" (or use --no-map)'
+            'the figures need matplotlib: pip install "geofeas[plot]" (or use --no-figures)'
         ) from None
     return plt
 

@@ -346,7 +346,11 @@ def simulate_operator(
     each from the ground truth (``same`` for a true duplicate-track pair, ``different``
     otherwise), and the association is recomputed under all the decisions so far
     (``Association.with_decisions`` of the latest result, which computes again only the
-    components the new decisions change) before the next batch, as a review station does.
+    components the new decisions change) before the next batch. A review station recomputes
+    after every decision (``batch=1``); larger batches cost fewer recomputations, and answer
+    the later pairs of a batch from a queue that does not know the earlier answers yet
+    (Solent, seed 0: F1 0.968 after 100 decisions in batches of 25, 0.971 in batches of 5,
+    ``docs/association.md``).
 
     Returns one row per checkpoint: ``decisions`` (made so far), ``precision``, ``recall`` and
     ``f1`` of the ``match`` pairs, ``borderline`` (pairs still to review), ``false_merges``
