@@ -1094,6 +1094,9 @@ struct MoveBuffers {
     back: Vec<u32>,
     near: Vec<u32>,
     extra: Vec<u32>,
+    /// Per cell, the stamp of the last search that found it (a search's cells once each).
+    seen: Vec<u32>,
+    stamp: u32,
 }
 
 /// Inverse temperatures of the tempered copies of every chain (the first is the posterior).
@@ -1199,16 +1202,28 @@ impl<'a> Chain<'a> {
         // MAX_SWAP blocks, all in conflict with it, that hold a neighbour of its cell, which it
         // may swap with (it leaves for an object of its own, they join its cell): the reverse
         // of a swap made by a block alone, which must be proposed for the chain to be reversible
-        let cells_of = |ch: &Self, xs: &[u32], cs: &mut Vec<u32>| {
+        // each cell once (marked with this call's stamp), then in order: the tracks of an
+        // object share most of their neighbours
+        let mut seen = std::mem::take(&mut self.bufs.seen);
+        seen.resize(self.cell_blocks.len(), 0);
+        let mut stamp = self.bufs.stamp;
+        let mut cells_of = |ch: &Self, xs: &[u32], cs: &mut Vec<u32>| {
+            stamp = stamp.wrapping_add(1);
+            if stamp == 0 {
+                seen.fill(0);
+                stamp = 1;
+            }
             cs.clear();
-            cs.extend(
-                xs.iter()
-                    .flat_map(|&x| comp.neighbours[x as usize].iter())
-                    .map(|&y| ch.label[comp.block_of[y as usize] as usize])
-                    .filter(|&c| c != old),
-            );
+            for &x in xs {
+                for &y in &comp.neighbours[x as usize] {
+                    let c = ch.label[comp.block_of[y as usize] as usize];
+                    if c != old && seen[c as usize] != stamp {
+                        seen[c as usize] = stamp;
+                        cs.push(c);
+                    }
+                }
+            }
             cs.sort_unstable();
-            cs.dedup();
         };
         let mut near = std::mem::take(&mut self.bufs.near);
         let mut extra = std::mem::take(&mut self.bufs.extra);
@@ -1216,6 +1231,10 @@ impl<'a> Chain<'a> {
         extra.clear();
         if !old_rest.is_empty() {
             cells_of(self, &old_rest, &mut extra);
+        }
+        self.bufs.seen = seen;
+        self.bufs.stamp = stamp;
+        if !old_rest.is_empty() {
             extra.retain(|&c| {
                 let cell = &self.cell_blocks[c as usize];
                 near.binary_search(&c).is_err()
