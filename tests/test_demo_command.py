@@ -33,7 +33,6 @@ def test_demo_command_end_to_end(tmp_path, capsys, sensors, decisions, bound, ba
     assert f"F1 after truthful decisions in review order (recomputed every {batch})" in text
     assert "removed 1 row(s): physically impossible jump" in text
     assert "precision" in text and "expected calibration error" in text
-    assert "F1 after truthful decisions" in text
     # the oracle's bound is printed exactly when the picture has HF DF
     assert ("HF DF, what geometry cannot decide" in text) == ("hfdf" in sensors)
     for name in ("reports.csv", "pairs.csv", "metrics.csv", "metrics_by_sources.csv", "map.png"):
